@@ -1,0 +1,217 @@
+#ifndef RIGID_LANGEVIN_INTEGRATOR_H_
+#define RIGID_LANGEVIN_INTEGRATOR_H_
+
+/* -------------------------------------------------------------------------- *
+ *                        openmm-rigid-langevin                               *
+ *   Langevin dynamics of rigid bodies of arbitrary shape in implicit         *
+ *   solvent, with a full 6x6 hydrodynamic resistance tensor per body.        *
+ * -------------------------------------------------------------------------- */
+
+#include "openmm/Integrator.h"
+#include "openmm/Kernel.h"
+#include "openmm/Vec3.h"
+#include "internal/windowsExportRigidLangevin.h"
+#include <map>
+#include <vector>
+
+namespace RigidLangevinPlugin {
+
+/**
+ * An integrator for Langevin dynamics of rigid bodies in implicit solvent.
+ *
+ * Each rigid body is a set of particles that moves as one: its centre of mass translates and its
+ * principal axes rotate, and the solvent acts on it through a 6x6 resistance tensor Xi (per unit
+ * viscosity) coupling translation and rotation:
+ *
+ *     (force, torque) = -viscosity * Xi * (velocity, angular velocity),
+ *
+ * together with the random force and torque that fluctuation-dissipation requires at the bath
+ * temperature. Particles in no body move as free particles with Stokes friction 6*pi*viscosity*r.
+ *
+ * Units are OpenMM's: temperature in K, viscosity in amu/(nm*ps) (1 poise = 60221.4 amu/(nm*ps);
+ * water at 298 K is 536 amu/(nm*ps)), step size in ps, lengths in nm. A resistance tensor per unit
+ * viscosity has blocks in nm (translation), nm^2 (coupling) and nm^3 (rotation).
+ *
+ * Three schemes are available (see docs/physics.md):
+ *  - ExactFlow (default): between two half kicks of the forces, the linear Langevin flow of the
+ *    free body is integrated exactly, velocity and displacement drawn jointly. Exact velocity
+ *    autocorrelation and diffusion of free bodies at any friction, Brownian dynamics in the stiff
+ *    limit, velocity Verlet with DLM rotation at zero viscosity.
+ *  - BAOAB: BAOAB splitting with the exact 6x6 Ornstein-Uhlenbeck step. Excellent configurational
+ *    sampling; its diffusion is too fast by (gamma h/2) coth(gamma h/2) when friction is stiff.
+ *  - Original: the scheme of Sun, Lin and Gezelter (J. Chem. Phys. 128, 234107, 2008): explicit
+ *    friction in velocity Verlet, resolved by fixed-point iteration. Kept for comparison only; it is
+ *    unstable once (h/2)*max eigenvalue of M^-1*viscosity*Xi reaches 1, and the integrator refuses
+ *    to run it there.
+ *
+ * Bodies are defined before the Context is created. Their geometry is taken from the positions
+ * first set on the Context; identical bodies (same masses, radii and shape up to rotation and
+ * translation, within 1e-4 nm) share one set of precomputed matrices and the exact same shape.
+ * Positions set later must agree with rigid placements of the bodies (within 1e-4 nm) and
+ * velocities are projected onto rigid motion.
+ */
+class OPENMM_EXPORT_RIGIDLANGEVIN RigidLangevinIntegrator : public OpenMM::Integrator {
+public:
+    /** The integration schemes, see the class description. */
+    enum Scheme {
+        ExactFlow = 0,
+        BAOAB = 1,
+        Original = 2
+    };
+    /**
+     * Create a RigidLangevinIntegrator.
+     *
+     * @param temperature  the temperature of the heat bath (in Kelvin)
+     * @param viscosity    the viscosity of the implicit solvent (in amu/(nm*ps))
+     * @param stepSize     the step size with which to integrate the system (in picoseconds)
+     */
+    RigidLangevinIntegrator(double temperature, double viscosity, double stepSize);
+    /** Get the temperature of the heat bath (in Kelvin). */
+    double getTemperature() const {
+        return temperature;
+    }
+    /** Set the temperature of the heat bath (in Kelvin). Takes effect at the next step. */
+    void setTemperature(double temp);
+    /** Get the viscosity of the solvent (in amu/(nm*ps)). */
+    double getViscosity() const {
+        return viscosity;
+    }
+    /**
+     * Set the viscosity of the solvent (in amu/(nm*ps)). Resistance tensors are stored per unit
+     * viscosity, so this rescales every friction without recomputing any hydrodynamics.
+     */
+    void setViscosity(double viscosity);
+    /** Get the integration scheme. */
+    Scheme getScheme() const {
+        return scheme;
+    }
+    /** Set the integration scheme. Takes effect at the next step. */
+    void setScheme(Scheme scheme);
+    /**
+     * Get the random number seed. See setRandomNumberSeed() for details.
+     */
+    int getRandomNumberSeed() const {
+        return randomNumberSeed;
+    }
+    /**
+     * Set the random number seed. The precise meaning of this parameter is undefined, and is left up
+     * to each Platform to interpret in an appropriate way. It is guaranteed that if two simulations
+     * are run with different random number seeds, the sequence of random forces will be different. On
+     * the other hand, no guarantees are made about the behavior of simulations that use the same seed.
+     * In particular, Platforms are permitted to use non-deterministic algorithms which produce different
+     * results on successive runs, even if those runs were initialized identically.
+     *
+     * If seed is set to 0 (which is the default value assigned), a unique seed is chosen when a Context
+     * is created from this Integrator. This is done to ensure that each Context receives unique random
+     * seeds without you needing to set them explicitly.
+     */
+    void setRandomNumberSeed(int seed);
+    /**
+     * Add a rigid body made of the given particles. A body holds one or more particles, at least
+     * one of them with mass; massless particles (sites) are carried along and their forces act on
+     * the body. A particle may belong to at most one body. Call this before creating a Context.
+     *
+     * @param particles  the indices of the particles in the body
+     * @return the index of the new body
+     */
+    int addRigidBody(const std::vector<int>& particles);
+    /** Get the number of rigid bodies that have been added. */
+    int getNumRigidBodies() const {
+        return bodies.size();
+    }
+    /** Get the particles of a rigid body. */
+    const std::vector<int>& getRigidBodyParticles(int index) const;
+    /**
+     * Set an explicit resistance tensor for a body, replacing the default hydrodynamic model.
+     *
+     * @param index   the index of the body
+     * @param tensor  36 values, row-major: the 6x6 resistance tensor per unit viscosity, ordered so
+     *                that (force, torque) = -viscosity*tensor*(velocity, angular velocity), with
+     *                velocity that of the point origin and torque about it. It must be symmetric and
+     *                positive definite. It is expressed in the lab frame of the body's particles as
+     *                they are in the positions first set on the Context.
+     * @param origin  the reference point of the tensor, in the lab frame of those positions (nm)
+     */
+    void setBodyResistance(int index, const std::vector<double>& tensor, const OpenMM::Vec3& origin);
+    /**
+     * Get the explicit resistance tensor of a body.
+     *
+     * @param index        the index of the body
+     * @param[out] tensor  the 36 values set by setBodyResistance(), or empty if none was set
+     * @param[out] origin  its reference point
+     * @return true if the body has an explicit tensor
+     */
+    bool getBodyResistance(int index, std::vector<double>& tensor, OpenMM::Vec3& origin) const;
+    /** Remove the explicit resistance tensor of a body, so that it uses the default model again. */
+    void clearBodyResistance(int index);
+    /**
+     * Set the hydrodynamic radius of a particle (nm). Without one, a particle with mass takes half the
+     * sigma of its NonbondedForce Lennard-Jones parameters where epsilon is not zero; a massive particle
+     * with neither is an error. Massless particles without a radius take no part in hydrodynamics.
+     */
+    void setParticleRadius(int particle, double radius);
+    /** Get the hydrodynamic radius set for a particle (nm), or -1 if none was set. */
+    double getParticleRadius(int particle) const;
+    /** Get all radii set by setParticleRadius(), keyed by particle index. */
+    const std::map<int, double>& getParticleRadii() const {
+        return radii;
+    }
+    /**
+     * Get the number of degrees of freedom the integrator moves: 6 per rigid body (5 for a linear
+     * body, 3 for a body whose mass is all at one point), plus 3 per free particle with mass.
+     * This needs a Context with positions, since whether a body is linear depends on its shape.
+     * A CMMotionRemover does not change this count; computeSystemTemperature() accounts for it.
+     */
+    int getNumDegreesOfFreedom() const;
+    /**
+     * Compute the instantaneous temperature of the system from the kinetic energy of all rigid
+     * bodies and free particles and getNumDegreesOfFreedom(). If the System has a CMMotionRemover,
+     * the kinetic energy of the centre of mass and its 3 degrees of freedom are left out.
+     */
+    double computeSystemTemperature();
+    /** Compute the temperature of the translational degrees of freedom alone (bodies and free particles). */
+    double computeTranslationalTemperature();
+    /** Compute the temperature of the rotational degrees of freedom of the rigid bodies alone. */
+    double computeRotationalTemperature();
+    /**
+     * Advance a simulation through time by taking a series of time steps.
+     *
+     * @param steps   the number of time steps to take
+     */
+    void step(int steps);
+protected:
+    void initialize(OpenMM::ContextImpl& context);
+    void cleanup();
+    std::vector<std::string> getKernelNames();
+    void stateChanged(OpenMM::State::DataType changed);
+    double computeKineticEnergy();
+    bool kineticEnergyRequiresForce() const;
+    std::vector<OpenMM::Vec3> getVelocitiesForTemperature(const OpenMM::System& system, double temperature, int randomSeed) const;
+    double getVelocityTimeOffset() const {
+        return getStepSize()/2;
+    }
+    void createCheckpoint(std::ostream& stream) const;
+    void loadCheckpoint(std::istream& stream);
+    void serializeParameters(OpenMM::SerializationNode& node) const;
+    void deserializeParameters(const OpenMM::SerializationNode& node);
+private:
+    struct BodyResistance {
+        std::vector<double> tensor;
+        OpenMM::Vec3 origin;
+    };
+    void checkNotBound(const char* method) const;
+    void checkBodyIndex(int index, const char* method) const;
+    double computeTemperature(int components);
+    double temperature, viscosity;
+    int randomNumberSeed;
+    Scheme scheme;
+    std::vector<std::vector<int> > bodies;
+    std::map<int, BodyResistance> resistances;
+    std::map<int, double> radii;
+    std::map<int, int> particleBody;
+    mutable OpenMM::Kernel kernel;
+};
+
+} // namespace RigidLangevinPlugin
+
+#endif /*RIGID_LANGEVIN_INTEGRATOR_H_*/

@@ -1,0 +1,64 @@
+#ifndef RIGID_LANGEVIN_KERNELS_H_
+#define RIGID_LANGEVIN_KERNELS_H_
+
+#include "RigidLangevinIntegrator.h"
+#include "internal/RigidBodyModel.h"
+#include "openmm/KernelImpl.h"
+#include "openmm/Platform.h"
+#include "openmm/State.h"
+#include "openmm/System.h"
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace RigidLangevinPlugin {
+
+/**
+ * This kernel is invoked by RigidLangevinIntegrator to take one time step, and to report and
+ * change the state of the rigid bodies it moves. The body model and every matrix a step needs come
+ * precomputed from the API layer (RigidBodyModel, computeStepCoefficients()); a kernel applies
+ * them to its platform's data.
+ */
+class IntegrateRigidLangevinStepKernel : public OpenMM::KernelImpl {
+public:
+    static std::string Name() {
+        return "IntegrateRigidLangevinStep";
+    }
+    IntegrateRigidLangevinStepKernel(std::string name, const OpenMM::Platform& platform) : OpenMM::KernelImpl(name, platform) {
+    }
+    /**
+     * Initialize the kernel.
+     *
+     * @param system      the System this kernel will be applied to
+     * @param integrator  the RigidLangevinIntegrator this kernel will be used for
+     */
+    virtual void initialize(const OpenMM::System& system, const RigidLangevinIntegrator& integrator) = 0;
+    /**
+     * Take one time step. The forces in the context are those at the current positions.
+     */
+    virtual void execute(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator) = 0;
+    /**
+     * Compute the kinetic energy of the bodies' translation and rotation, and that of the motion of
+     * the centre of mass of the whole system (kJ/mol).
+     */
+    virtual void computeKineticEnergies(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator,
+                                        double& translational, double& rotational, double& centerOfMass) = 0;
+    /** Whether computeKineticEnergies() uses the forces. */
+    virtual bool kineticEnergyRequiresForce(const RigidLangevinIntegrator& integrator) const = 0;
+    /** Tell the kernel that the positions or velocities of the particles were set from outside. */
+    virtual void stateChanged(OpenMM::ContextImpl& context, OpenMM::State::DataType changed) = 0;
+    /** The body model, built from the current positions if it was not built yet. */
+    virtual const RigidBodyModel& getModel(OpenMM::ContextImpl& context) = 0;
+    /** Get the state of every body (user bodies first, then free particles). */
+    virtual void getBodyStates(OpenMM::ContextImpl& context, std::vector<BodyState>& states) = 0;
+    /** Set the state of every body, and the particles' positions and velocities with it. */
+    virtual void setBodyStates(OpenMM::ContextImpl& context, const std::vector<BodyState>& states) = 0;
+    /** Write everything needed for a bit-identical continuation. */
+    virtual void createCheckpoint(OpenMM::ContextImpl& context, std::ostream& stream) = 0;
+    /** Read a checkpoint written by createCheckpoint(). */
+    virtual void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) = 0;
+};
+
+} // namespace RigidLangevinPlugin
+
+#endif /*RIGID_LANGEVIN_KERNELS_H_*/

@@ -1,0 +1,155 @@
+#ifndef RIGID_LANGEVIN_RIGID_BODY_MODEL_H_
+#define RIGID_LANGEVIN_RIGID_BODY_MODEL_H_
+
+#include "internal/windowsExportRigidLangevin.h"
+#include "openmm/System.h"
+#include "openmm/Vec3.h"
+#include <Eigen/Core>
+#include <iosfwd>
+#include <map>
+#include <vector>
+
+namespace RigidLangevinPlugin {
+
+class RigidLangevinIntegrator;
+
+typedef Eigen::Matrix<double, 6, 6> Matrix6;
+typedef Eigen::Matrix<double, 6, 1> Vector6;
+
+/**
+ * How a body type's friction couples its degrees of freedom, in its principal-axes frame at the
+ * centre of mass. Kernels use the cheapest exact update a class allows.
+ */
+enum class FrictionClass {
+    Scalar = 0,   ///< translation only, isotropic (free particles, single-particle bodies)
+    Diagonal = 1, ///< no coupling between the degrees of freedom
+    Coupled = 2   ///< a general symmetric 6x6 (or 5x5, 3x3) problem
+};
+
+/**
+ * The shape, mass properties and friction shared by all bodies of one type. Coordinates are in the
+ * body frame: origin at the centre of mass, axes along the principal axes of inertia with the
+ * moments in ascending order. A linear body rotates about axes 1 and 2 only; a body whose mass is
+ * all at one point does not rotate.
+ */
+struct BodyType {
+    std::vector<double> masses;          ///< per particle, in the body's particle order
+    std::vector<double> radii;           ///< hydrodynamic radius per particle, 0 for none
+    std::vector<OpenMM::Vec3> coords;    ///< body-frame coordinates per particle
+    double mass;                         ///< total mass
+    OpenMM::Vec3 inertia;                ///< principal moments, ascending; 0 for axes that do not rotate
+    int numRotations;                    ///< 0, 2 (linear) or 3
+    bool explicitResistance;             ///< true if the friction came from setBodyResistance()
+    Matrix6 resistance;                  ///< per unit viscosity, body frame, about the centre of mass
+    FrictionClass frictionClass;
+    int getNumDegreesOfFreedom() const {
+        return 3+numRotations;
+    }
+    /** Whether rotation about body axis 0, 1 or 2 is a degree of freedom. */
+    bool rotates(int axis) const {
+        return axis >= 3-numRotations;
+    }
+    /** The generalized coordinates (0-2 translation, 3-5 rotation about the body axes) that move. */
+    std::vector<int> getActiveCoordinates() const;
+};
+
+/**
+ * The dynamical state of one body: centre of mass (never wrapped into the periodic box, so bodies
+ * stay whole), lab-frame velocity, body-frame angular momentum and orientation.
+ */
+struct BodyState {
+    OpenMM::Vec3 position;
+    OpenMM::Vec3 velocity;
+    OpenMM::Vec3 angularMomentum;
+    double rotation[3][3]; ///< Q, lab to body: its rows are the body axes in the lab frame
+};
+
+/**
+ * The rigid bodies of a System as the integrator moves them: the bodies the user defined followed
+ * by one single-particle body per free particle with mass, grouped into types that share shape,
+ * masses, radii and friction. This is the API layer's precomputation shared by every platform:
+ * kernels get body types and states from here and only apply the equations of motion.
+ */
+class OPENMM_EXPORT_RIGIDLANGEVIN RigidBodyModel {
+public:
+    /** Positions that deviate more than this (nm) from a rigid placement of a body are an error. */
+    static constexpr double GeometryTolerance = 1e-4;
+    /**
+     * Check the integrator's body definitions against the System and resolve hydrodynamic radii.
+     * Throws OpenMMException for bad input (indices, overlaps, massless bodies, constraints that
+     * link different bodies, missing radii).
+     */
+    RigidBodyModel(const OpenMM::System& system, const RigidLangevinIntegrator& integrator);
+    /** The number of bodies moved, free particles included. */
+    int getNumBodies() const {
+        return bodyParticles.size();
+    }
+    /** The number of bodies defined with addRigidBody(); they come first. */
+    int getNumUserBodies() const {
+        return numUserBodies;
+    }
+    const std::vector<int>& getBodyParticles(int body) const {
+        return bodyParticles[body];
+    }
+    /** Whether types have been built from positions yet. */
+    bool isBuilt() const {
+        return !types.empty() || bodyParticles.empty();
+    }
+    int getNumTypes() const {
+        return types.size();
+    }
+    const BodyType& getType(int type) const {
+        return types[type];
+    }
+    int getBodyType(int body) const {
+        return bodyType[body];
+    }
+    /** The body a particle belongs to (free particles with mass included), or -1. */
+    int getParticleBody(int particle) const {
+        return particleBody[particle];
+    }
+    /**
+     * Fit body states to particle positions and velocities. The first call defines the body types
+     * from these positions; later calls fit each body to its type and throw if the positions
+     * deform it. Velocities are projected onto rigid motion (momentum and angular momentum kept).
+     *
+     * @param positions   particle positions
+     * @param velocities  particle velocities
+     * @param box         the periodic box vectors, or NULL without periodic boundary conditions
+     */
+    std::vector<BodyState> fitStates(const std::vector<OpenMM::Vec3>& positions, const std::vector<OpenMM::Vec3>& velocities,
+                                     const OpenMM::Vec3* box);
+    /** Write the positions and velocities of every body's particles from body states. */
+    void placeParticles(const std::vector<BodyState>& states, std::vector<OpenMM::Vec3>& positions, std::vector<OpenMM::Vec3>& velocities) const;
+    /** Total degrees of freedom, translational ones (3 per body) and rotational ones. */
+    int getNumDegreesOfFreedom() const;
+    int getNumTranslationalDegreesOfFreedom() const {
+        return 3*getNumBodies();
+    }
+    int getNumRotationalDegreesOfFreedom() const;
+    /** The total mass of all bodies. */
+    double getTotalMass() const;
+    /** Write the body types and their assignment, exactly, for a checkpoint. */
+    void writeTypes(std::ostream& stream) const;
+    /** Restore body types written by writeTypes(); throws if they do not fit this System's bodies. */
+    void readTypes(std::istream& stream);
+private:
+    int findOrCreateType(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, double rotation[3][3]);
+    bool matchType(int type, int body, const std::vector<OpenMM::Vec3>& offsets, double rotation[3][3], double& deviation, int& worst) const;
+    int createType(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, double rotation[3][3]);
+    Matrix6 bodyFrameResistance(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, const double rotation[3][3]) const;
+    std::vector<OpenMM::Vec3> unwrappedOffsets(int body, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, OpenMM::Vec3& centre) const;
+    int numUserBodies;
+    std::vector<std::vector<int> > bodyParticles;
+    std::vector<int> particleBody;
+    std::vector<double> particleMass, particleRadius;
+    std::vector<std::vector<double> > explicitTensor;  // per user body, empty if none
+    std::vector<OpenMM::Vec3> explicitOrigin;
+    std::vector<BodyType> types;
+    std::vector<int> bodyType;
+    std::multimap<std::vector<double>, int> typesBySignature;
+};
+
+} // namespace RigidLangevinPlugin
+
+#endif /*RIGID_LANGEVIN_RIGID_BODY_MODEL_H_*/

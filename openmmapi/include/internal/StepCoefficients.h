@@ -1,0 +1,69 @@
+#ifndef RIGID_LANGEVIN_STEP_COEFFICIENTS_H_
+#define RIGID_LANGEVIN_STEP_COEFFICIENTS_H_
+
+#include "internal/RigidBodyModel.h"
+#include "internal/windowsExportRigidLangevin.h"
+#include "RigidLangevinIntegrator.h"
+#include <vector>
+
+namespace RigidLangevinPlugin {
+
+/**
+ * The exact solution over one step h of a scalar Ornstein-Uhlenbeck mode with its displacement,
+ *
+ *     dw = -lambda w dt + sqrt(2 lambda kT) dB,   dy = w dt,
+ *
+ * in mass-weighted units (w = sqrt(m) v, y = sqrt(m) x):
+ *
+ *     w(h) = decay*w(0) + noiseVelocity*n1
+ *     y(h) = y(0) + drift*w(0) + noiseCross*n1 + noiseDisplacement*n2
+ *
+ * with n1, n2 independent standard normal numbers: decay = exp(-lambda h),
+ * drift = (1-exp(-lambda h))/lambda, and the noise terms the Cholesky factor of the 2x2 covariance
+ * kT [[1-e^2, (1-e)^2/lambda], [(1-e)^2/lambda, (2 lambda h - 3 + 4e - e^2)/lambda^2]].
+ * lambda = 0 gives free flight (decay 1, drift h, no noise).
+ */
+struct ModeCoefficients {
+    double lambda, decay, drift, noiseVelocity, noiseCross, noiseDisplacement;
+};
+
+/** Compute the coefficients of one mode, accurately for any lambda*h (series below 0.1). */
+OPENMM_EXPORT_RIGIDLANGEVIN ModeCoefficients computeModeCoefficients(double lambda, double kT, double h);
+
+/**
+ * Everything a kernel needs to advance the bodies of one type by one step in a given scheme,
+ * temperature, viscosity and step size. Generalized coordinates are the active ones of the type
+ * (BodyType::getActiveCoordinates(): translation in the body frame, then rotation about the body
+ * axes that rotate), dof of them; matrices fill their top-left dof x dof block.
+ *
+ * With W = M^1/2 U (U the generalized velocity, M the mass matrix) and K = M^-1/2 (viscosity Xi)
+ * M^-1/2 = S diag(lambda) S^T, the modes are a = S^T W: toModes = S^T M^1/2 and
+ * fromModes = M^-1/2 S. For Diagonal and Scalar types S is the identity and the matrices are
+ * diagonal.
+ */
+struct TypeStepCoefficients {
+    FrictionClass frictionClass;
+    int dof;
+    int active[6];                ///< the active generalized coordinates, 0-5
+    Matrix6 toModes, fromModes;   ///< ExactFlow and BAOAB
+    ModeCoefficients modes[6];    ///< ExactFlow (all terms) and BAOAB (decay, noiseVelocity)
+    Matrix6 friction;             ///< Original: viscosity*Xi on the active coordinates
+    Matrix6 randomForce;          ///< Original: Cholesky factor of 2 kT viscosity Xi / h
+    double inverseMass[6];        ///< Original: M^-1 on the active coordinates
+    double stiffness;             ///< (h/2) * largest eigenvalue of M^-1 viscosity Xi
+};
+
+/** Compute the step coefficients of every body type of a model. */
+OPENMM_EXPORT_RIGIDLANGEVIN std::vector<TypeStepCoefficients> computeStepCoefficients(const RigidBodyModel& model,
+        RigidLangevinIntegrator::Scheme scheme, double temperature, double viscosity, double stepSize);
+
+/**
+ * Check that the Original scheme can run: its fixed-point iteration for the friction of the second
+ * half kick only converges while (h/2)*lambda_max < 1. Throws an OpenMMException naming the body
+ * and the largest stable step otherwise.
+ */
+OPENMM_EXPORT_RIGIDLANGEVIN void checkOriginalSchemeStability(const RigidBodyModel& model, const std::vector<TypeStepCoefficients>& coefficients, double stepSize);
+
+} // namespace RigidLangevinPlugin
+
+#endif /*RIGID_LANGEVIN_STEP_COEFFICIENTS_H_*/

@@ -1,0 +1,136 @@
+#include "ResistanceTensor.h"
+#include "internal/ResistanceMath.h"
+#include "openmm/OpenMMException.h"
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <cmath>
+#include <sstream>
+
+using namespace RigidLangevinPlugin;
+using namespace RigidLangevinPlugin::ResistanceMath;
+using OpenMM::OpenMMException;
+using OpenMM::Vec3;
+using std::vector;
+
+namespace {
+
+Matrix6 toMatrix(const double* values) {
+    return Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor> >(values);
+}
+
+void fromMatrix6(const Matrix6& m, double* values) {
+    Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor> > map(values);
+    map = m;
+}
+
+vector<double> toVector(const Matrix6& m) {
+    vector<double> v(36);
+    fromMatrix6(m, v.data());
+    return v;
+}
+
+} // namespace
+
+ResistanceTensor::ResistanceTensor() {
+    for (double& v : values)
+        v = 0.0;
+}
+
+ResistanceTensor ResistanceTensor::fromMatrix(const vector<double>& matrix, const Vec3& origin) {
+    if (matrix.size() != 36)
+        throw OpenMMException("ResistanceTensor: a resistance tensor needs 36 values (a 6x6 matrix, row-major), got "+std::to_string(matrix.size()));
+    ResistanceTensor t;
+    for (int i = 0; i < 36; i++)
+        t.values[i] = matrix[i];
+    t.origin = origin;
+    t.validate("ResistanceTensor");
+    return t;
+}
+
+ResistanceTensor ResistanceTensor::sphere(double radius, const Vec3& center) {
+    if (!(radius > 0) || !std::isfinite(radius))
+        throw OpenMMException("ResistanceTensor::sphere: the radius must be positive and finite, got "+std::to_string(radius));
+    Matrix6 m = Matrix6::Zero();
+    m.block<3, 3>(0, 0) = 6*M_PI*radius*Eigen::Matrix3d::Identity();
+    m.block<3, 3>(3, 3) = 8*M_PI*radius*radius*radius*Eigen::Matrix3d::Identity();
+    ResistanceTensor t;
+    fromMatrix6(m, t.values);
+    t.origin = center;
+    return t;
+}
+
+ResistanceTensor ResistanceTensor::freeDrainingBeads(const vector<Vec3>& positions, const vector<double>& radii) {
+    if (positions.size() != radii.size())
+        throw OpenMMException("ResistanceTensor::freeDrainingBeads: got "+std::to_string(positions.size())+" positions but "+std::to_string(radii.size())+" radii");
+    if (positions.empty())
+        throw OpenMMException("ResistanceTensor::freeDrainingBeads: the bead model is empty");
+    // Bead i at r_i from the origin moves with v + omega x r_i = v - skew(r_i) omega and feels
+    // -zeta_i times that; summing forces and torques r_i x f_i gives the blocks.
+    Eigen::Vector3d origin = toEigen(positions[0]);
+    Matrix6 m = Matrix6::Zero();
+    for (int i = 0; i < (int) positions.size(); i++) {
+        if (!(radii[i] >= 0) || !std::isfinite(radii[i]))
+            throw OpenMMException("ResistanceTensor::freeDrainingBeads: bead "+std::to_string(i)+" has radius "+std::to_string(radii[i])+"; radii must be finite and non-negative");
+        if (radii[i] == 0)
+            continue;
+        double zeta = 6*M_PI*radii[i];
+        Eigen::Matrix3d u = skew(toEigen(positions[i])-origin);
+        m.block<3, 3>(0, 0) += zeta*Eigen::Matrix3d::Identity();
+        m.block<3, 3>(3, 0) += zeta*u;
+        m.block<3, 3>(0, 3) -= zeta*u;
+        m.block<3, 3>(3, 3) -= zeta*u*u;
+    }
+    ResistanceTensor t;
+    fromMatrix6(m, t.values);
+    t.origin = positions[0];
+    return t;
+}
+
+vector<double> ResistanceTensor::getMatrix(const Vec3& point) const {
+    return toVector(moveOrigin(toMatrix(values), toEigen(point-origin)));
+}
+
+vector<double> ResistanceTensor::getMatrix() const {
+    return vector<double>(values, values+36);
+}
+
+Vec3 ResistanceTensor::getCenterOfResistance() const {
+    return origin+toVec3(centerOfResistance(toMatrix(values)));
+}
+
+ResistanceTensor ResistanceTensor::rotated(const vector<double>& rotation) const {
+    if (rotation.size() != 9)
+        throw OpenMMException("ResistanceTensor::rotated: a rotation needs 9 values (3x3, row-major)");
+    Eigen::Matrix3d r = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> >(rotation.data());
+    if ((r*r.transpose()-Eigen::Matrix3d::Identity()).norm() > 1e-8 || r.determinant() < 0)
+        throw OpenMMException("ResistanceTensor::rotated: the matrix is not a proper rotation (orthogonal, determinant +1)");
+    ResistanceTensor t;
+    fromMatrix6(rotate(toMatrix(values), r), t.values);
+    t.origin = toVec3(r*toEigen(origin));
+    return t;
+}
+
+ResistanceTensor ResistanceTensor::translated(const Vec3& displacement) const {
+    ResistanceTensor t = *this;
+    t.origin += displacement;
+    return t;
+}
+
+ResistanceTensor ResistanceTensor::scaled(double factor) const {
+    ResistanceTensor t = *this;
+    for (double& v : t.values)
+        v *= factor;
+    return t;
+}
+
+void ResistanceTensor::validate(const std::string& what) const {
+    Matrix6 m = toMatrix(values);
+    if (!m.allFinite())
+        throw OpenMMException(what+": the resistance tensor contains NaN or infinite values");
+    double scale = m.cwiseAbs().maxCoeff();
+    if ((m-m.transpose()).cwiseAbs().maxCoeff() > 1e-8*scale)
+        throw OpenMMException(what+": the resistance tensor is not symmetric; (force, torque) = -viscosity*Xi*(velocity, angular velocity) needs Xi = Xi^T");
+    Eigen::LLT<Matrix6> llt(0.5*(m+m.transpose()));
+    if (scale == 0 || llt.info() != Eigen::Success)
+        throw OpenMMException(what+": the resistance tensor is not positive definite; every rigid motion must dissipate energy");
+}

@@ -1,0 +1,315 @@
+#include "RigidLangevinIntegrator.h"
+#include "RigidLangevinKernels.h"
+#include "ResistanceTensor.h"
+#include "internal/GaussianRandom.h"
+#include "openmm/CMMotionRemover.h"
+#include "openmm/Context.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/internal/ContextImpl.h"
+#include "openmm/reference/SimTKOpenMMRealType.h"
+#include "openmm/serialization/SerializationNode.h"
+#include <cmath>
+#include <string>
+
+using namespace RigidLangevinPlugin;
+using namespace OpenMM;
+using std::string;
+using std::vector;
+
+RigidLangevinIntegrator::RigidLangevinIntegrator(double temperature, double viscosity, double stepSize) :
+        temperature(0), viscosity(0), randomNumberSeed(0), scheme(ExactFlow) {
+    setTemperature(temperature);
+    setViscosity(viscosity);
+    if (!(stepSize > 0) || !std::isfinite(stepSize))
+        throw OpenMMException("RigidLangevinIntegrator: the step size must be positive and finite, got "+std::to_string(stepSize)+" ps");
+    setStepSize(stepSize);
+    setConstraintTolerance(1e-5);
+}
+
+void RigidLangevinIntegrator::setTemperature(double temp) {
+    if (!(temp >= 0) || !std::isfinite(temp))
+        throw OpenMMException("RigidLangevinIntegrator: the temperature must be non-negative and finite, got "+std::to_string(temp)+" K");
+    temperature = temp;
+}
+
+void RigidLangevinIntegrator::setViscosity(double visc) {
+    if (!(visc >= 0) || !std::isfinite(visc))
+        throw OpenMMException("RigidLangevinIntegrator: the viscosity must be non-negative and finite, got "+std::to_string(visc)+" amu/(nm*ps)");
+    viscosity = visc;
+}
+
+void RigidLangevinIntegrator::setScheme(Scheme s) {
+    if (s != ExactFlow && s != BAOAB && s != Original)
+        throw OpenMMException("RigidLangevinIntegrator: unknown scheme "+std::to_string((int) s)+"; use ExactFlow (0), BAOAB (1) or Original (2)");
+    scheme = s;
+}
+
+void RigidLangevinIntegrator::setRandomNumberSeed(int seed) {
+    randomNumberSeed = seed;
+}
+
+void RigidLangevinIntegrator::checkNotBound(const char* method) const {
+    if (context != NULL)
+        throw OpenMMException(string("RigidLangevinIntegrator::")+method+": rigid bodies must be defined before the Context is created");
+}
+
+void RigidLangevinIntegrator::checkBodyIndex(int index, const char* method) const {
+    if (index < 0 || index >= (int) bodies.size())
+        throw OpenMMException(string("RigidLangevinIntegrator::")+method+": there is no rigid body "+std::to_string(index)+
+                " (the integrator has "+std::to_string(bodies.size())+" bodies)");
+}
+
+int RigidLangevinIntegrator::addRigidBody(const vector<int>& particles) {
+    checkNotBound("addRigidBody");
+    int index = bodies.size();
+    if (particles.empty())
+        throw OpenMMException("RigidLangevinIntegrator::addRigidBody: rigid body "+std::to_string(index)+" has no particles");
+    for (int i = 0; i < (int) particles.size(); i++) {
+        int p = particles[i];
+        if (p < 0)
+            throw OpenMMException("RigidLangevinIntegrator::addRigidBody: rigid body "+std::to_string(index)+" contains the negative particle index "+std::to_string(p));
+        for (int j = 0; j < i; j++)
+            if (particles[j] == p)
+                throw OpenMMException("RigidLangevinIntegrator::addRigidBody: rigid body "+std::to_string(index)+" lists particle "+std::to_string(p)+" twice");
+        auto other = particleBody.find(p);
+        if (other != particleBody.end())
+            throw OpenMMException("RigidLangevinIntegrator::addRigidBody: particle "+std::to_string(p)+" is already in rigid body "+std::to_string(other->second)+
+                    "; a particle can belong to one body only");
+    }
+    for (int p : particles)
+        particleBody[p] = index;
+    bodies.push_back(particles);
+    return index;
+}
+
+const vector<int>& RigidLangevinIntegrator::getRigidBodyParticles(int index) const {
+    checkBodyIndex(index, "getRigidBodyParticles");
+    return bodies[index];
+}
+
+void RigidLangevinIntegrator::setBodyResistance(int index, const vector<double>& tensor, const Vec3& origin) {
+    checkNotBound("setBodyResistance");
+    checkBodyIndex(index, "setBodyResistance");
+    string what = "RigidLangevinIntegrator::setBodyResistance: rigid body "+std::to_string(index);
+    if (tensor.size() != 36)
+        throw OpenMMException(what+": a resistance tensor needs 36 values (a 6x6 matrix, row-major), got "+std::to_string(tensor.size()));
+    ResistanceTensor t = ResistanceTensor();
+    try {
+        t = ResistanceTensor::fromMatrix(tensor, origin);
+    }
+    catch (const OpenMMException& e) {
+        string message = e.what();
+        throw OpenMMException(what+message.substr(message.find(':')));
+    }
+    if (!std::isfinite(origin[0]) || !std::isfinite(origin[1]) || !std::isfinite(origin[2]))
+        throw OpenMMException(what+": the origin of the resistance tensor is not finite");
+    resistances[index] = {tensor, origin};
+}
+
+bool RigidLangevinIntegrator::getBodyResistance(int index, vector<double>& tensor, Vec3& origin) const {
+    checkBodyIndex(index, "getBodyResistance");
+    auto r = resistances.find(index);
+    if (r == resistances.end()) {
+        tensor.clear();
+        origin = Vec3();
+        return false;
+    }
+    tensor = r->second.tensor;
+    origin = r->second.origin;
+    return true;
+}
+
+void RigidLangevinIntegrator::clearBodyResistance(int index) {
+    checkNotBound("clearBodyResistance");
+    checkBodyIndex(index, "clearBodyResistance");
+    resistances.erase(index);
+}
+
+void RigidLangevinIntegrator::setParticleRadius(int particle, double radius) {
+    checkNotBound("setParticleRadius");
+    if (particle < 0)
+        throw OpenMMException("RigidLangevinIntegrator::setParticleRadius: invalid particle index "+std::to_string(particle));
+    if (!(radius > 0) || !std::isfinite(radius))
+        throw OpenMMException("RigidLangevinIntegrator::setParticleRadius: particle "+std::to_string(particle)+" was given radius "+std::to_string(radius)+
+                " nm; a hydrodynamic radius must be positive and finite");
+    radii[particle] = radius;
+}
+
+double RigidLangevinIntegrator::getParticleRadius(int particle) const {
+    auto r = radii.find(particle);
+    return (r == radii.end() ? -1.0 : r->second);
+}
+
+void RigidLangevinIntegrator::initialize(ContextImpl& contextRef) {
+    if (owner != NULL && &contextRef.getOwner() != owner)
+        throw OpenMMException("This Integrator is already bound to a context");
+    if (!(getStepSize() > 0) || !std::isfinite(getStepSize()))
+        throw OpenMMException("RigidLangevinIntegrator: the step size must be positive and finite, got "+std::to_string(getStepSize())+" ps");
+    kernel = contextRef.getPlatform().createKernel(IntegrateRigidLangevinStepKernel::Name(), contextRef);
+    kernel.getAs<IntegrateRigidLangevinStepKernel>().initialize(contextRef.getSystem(), *this);
+    context = &contextRef;
+    owner = &contextRef.getOwner();
+}
+
+void RigidLangevinIntegrator::cleanup() {
+    kernel = Kernel();
+}
+
+vector<string> RigidLangevinIntegrator::getKernelNames() {
+    return {IntegrateRigidLangevinStepKernel::Name()};
+}
+
+void RigidLangevinIntegrator::stateChanged(State::DataType changed) {
+    if (context != NULL)
+        kernel.getAs<IntegrateRigidLangevinStepKernel>().stateChanged(*context, changed);
+}
+
+void RigidLangevinIntegrator::step(int steps) {
+    if (context == NULL)
+        throw OpenMMException("This Integrator is not bound to a context!");
+    if (!(getStepSize() > 0) || !std::isfinite(getStepSize()))
+        throw OpenMMException("RigidLangevinIntegrator: the step size must be positive and finite, got "+std::to_string(getStepSize())+" ps");
+    IntegrateRigidLangevinStepKernel& k = kernel.getAs<IntegrateRigidLangevinStepKernel>();
+    for (int i = 0; i < steps; i++) {
+        context->updateContextState();
+        context->calcForcesAndEnergy(true, false, getIntegrationForceGroups());
+        k.execute(*context, *this);
+    }
+}
+
+bool RigidLangevinIntegrator::kineticEnergyRequiresForce() const {
+    if (context == NULL)
+        return true;
+    return kernel.getAs<IntegrateRigidLangevinStepKernel>().kineticEnergyRequiresForce(*this);
+}
+
+double RigidLangevinIntegrator::computeKineticEnergy() {
+    double translational, rotational, centerOfMass;
+    kernel.getAs<IntegrateRigidLangevinStepKernel>().computeKineticEnergies(*context, *this, translational, rotational, centerOfMass);
+    return translational+rotational;
+}
+
+int RigidLangevinIntegrator::getNumDegreesOfFreedom() const {
+    if (context == NULL)
+        throw OpenMMException("RigidLangevinIntegrator::getNumDegreesOfFreedom: this Integrator is not bound to a context (the count depends on the bodies' shapes)");
+    return kernel.getAs<IntegrateRigidLangevinStepKernel>().getModel(*context).getNumDegreesOfFreedom();
+}
+
+/** components: 1 translational, 2 rotational, 3 both. */
+double RigidLangevinIntegrator::computeTemperature(int components) {
+    if (context == NULL)
+        throw OpenMMException("This Integrator is not bound to a context!");
+    IntegrateRigidLangevinStepKernel& k = kernel.getAs<IntegrateRigidLangevinStepKernel>();
+    if (k.kineticEnergyRequiresForce(*this))
+        context->calcForcesAndEnergy(true, false, getIntegrationForceGroups());
+    const RigidBodyModel& model = k.getModel(*context);
+    double translational, rotational, centerOfMass;
+    k.computeKineticEnergies(*context, *this, translational, rotational, centerOfMass);
+    bool removesMotion = false;
+    const System& system = context->getSystem();
+    for (int i = 0; i < system.getNumForces(); i++)
+        if (dynamic_cast<const CMMotionRemover*>(&system.getForce(i)) != NULL)
+            removesMotion = true;
+    double energy = 0;
+    int dof = 0;
+    if (components & 1) {
+        energy += translational;
+        dof += model.getNumTranslationalDegreesOfFreedom();
+        if (removesMotion) {
+            energy -= centerOfMass;
+            dof -= 3;
+        }
+    }
+    if (components & 2) {
+        energy += rotational;
+        dof += model.getNumRotationalDegreesOfFreedom();
+    }
+    return (dof > 0 ? 2*energy/(dof*BOLTZ) : 0.0);
+}
+
+double RigidLangevinIntegrator::computeSystemTemperature() {
+    return computeTemperature(3);
+}
+
+double RigidLangevinIntegrator::computeTranslationalTemperature() {
+    return computeTemperature(1);
+}
+
+double RigidLangevinIntegrator::computeRotationalTemperature() {
+    return computeTemperature(2);
+}
+
+vector<Vec3> RigidLangevinIntegrator::getVelocitiesForTemperature(const System& system, double temp, int randomSeed) const {
+    // Maxwell-Boltzmann in the bodies' own degrees of freedom: every particle then moves rigidly.
+    IntegrateRigidLangevinStepKernel& k = kernel.getAs<IntegrateRigidLangevinStepKernel>();
+    const RigidBodyModel& model = k.getModel(*context);
+    vector<BodyState> states;
+    k.getBodyStates(*context, states);
+    GaussianRandom random(randomSeed);
+    double kT = BOLTZ*temp;
+    for (int b = 0; b < model.getNumBodies(); b++) {
+        const BodyType& type = model.getType(model.getBodyType(b));
+        BodyState& s = states[b];
+        double scale = std::sqrt(kT/type.mass);
+        for (int k = 0; k < 3; k++)
+            s.velocity[k] = scale*random.next();
+        for (int k = 0; k < 3; k++)
+            s.angularMomentum[k] = (type.rotates(k) ? std::sqrt(kT*type.inertia[k])*random.next() : 0.0);
+    }
+    vector<Vec3> positions(system.getNumParticles()), velocities(system.getNumParticles());
+    model.placeParticles(states, positions, velocities);
+    return velocities;
+}
+
+void RigidLangevinIntegrator::createCheckpoint(std::ostream& stream) const {
+    kernel.getAs<IntegrateRigidLangevinStepKernel>().createCheckpoint(*context, stream);
+}
+
+void RigidLangevinIntegrator::loadCheckpoint(std::istream& stream) {
+    kernel.getAs<IntegrateRigidLangevinStepKernel>().loadCheckpoint(*context, stream);
+}
+
+void RigidLangevinIntegrator::serializeParameters(SerializationNode& node) const {
+    // The exact body states, so that loading a State continues from them rather than refitting
+    // bodies to particle positions.
+    node.setIntProperty("version", 1);
+    if (context == NULL)
+        return;
+    vector<BodyState> states;
+    kernel.getAs<IntegrateRigidLangevinStepKernel>().getBodyStates(*context, states);
+    SerializationNode& bodiesNode = node.createChildNode("BodyStates");
+    static const char* q[3][3] = {{"q00", "q01", "q02"}, {"q10", "q11", "q12"}, {"q20", "q21", "q22"}};
+    for (const BodyState& s : states) {
+        SerializationNode& b = bodiesNode.createChildNode("Body");
+        b.setDoubleProperty("x", s.position[0]).setDoubleProperty("y", s.position[1]).setDoubleProperty("z", s.position[2]);
+        b.setDoubleProperty("vx", s.velocity[0]).setDoubleProperty("vy", s.velocity[1]).setDoubleProperty("vz", s.velocity[2]);
+        b.setDoubleProperty("jx", s.angularMomentum[0]).setDoubleProperty("jy", s.angularMomentum[1]).setDoubleProperty("jz", s.angularMomentum[2]);
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                b.setDoubleProperty(q[i][j], s.rotation[i][j]);
+    }
+}
+
+void RigidLangevinIntegrator::deserializeParameters(const SerializationNode& node) {
+    if (node.getIntProperty("version") != 1)
+        throw OpenMMException("RigidLangevinIntegrator: unsupported version of the integrator parameters in the State");
+    const SerializationNode* bodyStates = NULL;
+    for (const SerializationNode& child : node.getChildren())
+        if (child.getName() == "BodyStates")
+            bodyStates = &child;
+    if (context == NULL || bodyStates == NULL)
+        return;
+    static const char* q[3][3] = {{"q00", "q01", "q02"}, {"q10", "q11", "q12"}, {"q20", "q21", "q22"}};
+    vector<BodyState> states;
+    for (const SerializationNode& b : bodyStates->getChildren()) {
+        BodyState s;
+        s.position = Vec3(b.getDoubleProperty("x"), b.getDoubleProperty("y"), b.getDoubleProperty("z"));
+        s.velocity = Vec3(b.getDoubleProperty("vx"), b.getDoubleProperty("vy"), b.getDoubleProperty("vz"));
+        s.angularMomentum = Vec3(b.getDoubleProperty("jx"), b.getDoubleProperty("jy"), b.getDoubleProperty("jz"));
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                s.rotation[i][j] = b.getDoubleProperty(q[i][j]);
+        states.push_back(s);
+    }
+    kernel.getAs<IntegrateRigidLangevinStepKernel>().setBodyStates(*context, states);
+}

@@ -1,0 +1,82 @@
+#include "RigidLangevinIntegratorProxy.h"
+#include "RigidLangevinIntegrator.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/serialization/SerializationNode.h"
+#include <memory>
+
+using namespace RigidLangevinPlugin;
+using namespace OpenMM;
+using std::vector;
+
+namespace {
+
+const SerializationNode* findChild(const SerializationNode& node, const std::string& name) {
+    for (const SerializationNode& child : node.getChildren())
+        if (child.getName() == name)
+            return &child;
+    return NULL;
+}
+
+} // namespace
+
+RigidLangevinIntegratorProxy::RigidLangevinIntegratorProxy() : SerializationProxy("RigidLangevinIntegrator") {
+}
+
+void RigidLangevinIntegratorProxy::serialize(const void* object, SerializationNode& node) const {
+    node.setIntProperty("version", 1);
+    const RigidLangevinIntegrator& integrator = *reinterpret_cast<const RigidLangevinIntegrator*>(object);
+    node.setDoubleProperty("stepSize", integrator.getStepSize());
+    node.setDoubleProperty("constraintTolerance", integrator.getConstraintTolerance());
+    node.setDoubleProperty("temperature", integrator.getTemperature());
+    node.setDoubleProperty("viscosity", integrator.getViscosity());
+    node.setIntProperty("scheme", integrator.getScheme());
+    node.setIntProperty("randomSeed", integrator.getRandomNumberSeed());
+    node.setIntProperty("integrationForceGroups", integrator.getIntegrationForceGroups());
+    SerializationNode& bodies = node.createChildNode("Bodies");
+    for (int b = 0; b < integrator.getNumRigidBodies(); b++) {
+        SerializationNode& body = bodies.createChildNode("Body");
+        for (int p : integrator.getRigidBodyParticles(b))
+            body.createChildNode("Particle").setIntProperty("index", p);
+        vector<double> tensor;
+        Vec3 origin;
+        if (integrator.getBodyResistance(b, tensor, origin)) {
+            SerializationNode& resistance = body.createChildNode("Resistance");
+            resistance.setDoubleProperty("x", origin[0]).setDoubleProperty("y", origin[1]).setDoubleProperty("z", origin[2]);
+            for (double value : tensor)
+                resistance.createChildNode("Value").setDoubleProperty("v", value);
+        }
+    }
+    SerializationNode& radii = node.createChildNode("Radii");
+    for (auto& r : integrator.getParticleRadii())
+        radii.createChildNode("Particle").setIntProperty("index", r.first).setDoubleProperty("radius", r.second);
+}
+
+void* RigidLangevinIntegratorProxy::deserialize(const SerializationNode& node) const {
+    if (node.getIntProperty("version") != 1)
+        throw OpenMMException("RigidLangevinIntegratorProxy: unsupported version number "+std::to_string(node.getIntProperty("version")));
+    std::unique_ptr<RigidLangevinIntegrator> integrator(new RigidLangevinIntegrator(node.getDoubleProperty("temperature"),
+            node.getDoubleProperty("viscosity"), node.getDoubleProperty("stepSize")));
+    integrator->setConstraintTolerance(node.getDoubleProperty("constraintTolerance"));
+    integrator->setScheme((RigidLangevinIntegrator::Scheme) node.getIntProperty("scheme"));
+    integrator->setRandomNumberSeed(node.getIntProperty("randomSeed"));
+    integrator->setIntegrationForceGroups(node.getIntProperty("integrationForceGroups", 0xFFFFFFFF));
+    for (const SerializationNode& body : node.getChildNode("Bodies").getChildren()) {
+        vector<int> particles;
+        for (const SerializationNode& child : body.getChildren())
+            if (child.getName() == "Particle")
+                particles.push_back(child.getIntProperty("index"));
+        int index = integrator->addRigidBody(particles);
+        const SerializationNode* resistanceNode = findChild(body, "Resistance");
+        if (resistanceNode != NULL) {
+            const SerializationNode& resistance = *resistanceNode;
+            vector<double> tensor;
+            for (const SerializationNode& value : resistance.getChildren())
+                tensor.push_back(value.getDoubleProperty("v"));
+            Vec3 origin(resistance.getDoubleProperty("x"), resistance.getDoubleProperty("y"), resistance.getDoubleProperty("z"));
+            integrator->setBodyResistance(index, tensor, origin);
+        }
+    }
+    for (const SerializationNode& r : node.getChildNode("Radii").getChildren())
+        integrator->setParticleRadius(r.getIntProperty("index"), r.getDoubleProperty("radius"));
+    return integrator.release();
+}
