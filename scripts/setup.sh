@@ -19,7 +19,7 @@ trap 'fail' ERR
 step() { current_step="$1"; echo "==> $1"; }
 
 # 1. System packages (Debian). Only the missing ones are installed.
-APT_PACKAGES=(build-essential cmake swig libeigen3-dev libgtest-dev
+APT_PACKAGES=(build-essential cmake libeigen3-dev libgtest-dev
               ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
               libopenmpi-dev openmpi-bin)
 step "checking Debian packages"
@@ -69,7 +69,7 @@ OPENMM_DIR="$("$VENV/bin/python" -c "import os, openmm.version as v; print(os.pa
 
 step "configuring the build (cmake)"
 cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE="$BUILD_TYPE" \
-      -DOPENMM_DIR="$OPENMM_DIR" -DPython3_EXECUTABLE="$VENV/bin/python" >"$ROOT/build.log" 2>&1 \
+      -DOPENMM_DIR="$OPENMM_DIR" -DPython3_EXECUTABLE="$VENV/bin/python" -DSWIG_EXECUTABLE="$VENV/bin/swig" >"$ROOT/build.log" 2>&1 \
     || { tail -30 "$ROOT/build.log" >&2; fail "cmake configure (full log: build.log)"; }
 step "building (make -j$JOBS)"
 cmake --build "$BUILD" -j "$JOBS" >>"$ROOT/build.log" 2>&1 \

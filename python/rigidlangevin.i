@@ -1,0 +1,220 @@
+/*
+ * SWIG interface of the plugin's Python module. It imports OpenMM's own SWIG interface, so
+ * RigidLangevinIntegrator derives from openmm.Integrator and works with openmm.Context,
+ * openmm.XmlSerializer and openmm.app.Simulation. Arguments may be openmm.unit Quantities
+ * (OpenMM's typemaps strip them to MD units; viscosities go through _units.viscosity_value first).
+ */
+%module(package="rigidlangevin") core
+
+%include "factory.i"
+%import(module="openmm") "swig/OpenMMSwigHeaders.i"
+
+/* OpenMM's typemaps read numpy arrays directly when numpy is importable; they expect this helper. */
+%header %{
+#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
+#include <numpy/arrayobject.h>
+namespace OpenMM {
+int isNumpyAvailable() {
+    static bool initialized = false;
+    static bool available = false;
+    if (!initialized) {
+        initialized = true;
+        available = (_import_array() >= 0);
+        if (!available)
+            PyErr_Clear();
+    }
+    return available;
+}
+}
+using OpenMM::isNumpyAvailable;
+%}
+%include "swig/typemaps.i"
+%include <std_string.i>
+%include <std_vector.i>
+
+%{
+#include "RigidLangevinIntegrator.h"
+#include "ResistanceTensor.h"
+#include "OpenMM.h"
+#include "OpenMMAmoeba.h"
+#include "OpenMMDrude.h"
+#include "openmm/RPMDIntegrator.h"
+#include "openmm/RPMDMonteCarloBarostat.h"
+#include "openmm/serialization/XmlSerializer.h"
+#include <sstream>
+// OpenMM's typemaps name the vector type Vec3.
+using OpenMM::Vec3;
+%}
+
+%pythonbegin %{
+import openmm
+import openmm.unit as unit
+from . import _units
+%}
+
+/* C++ exceptions become openmm.OpenMMException, as in OpenMM's own module. */
+%exception {
+    try {
+        $action
+    } catch (std::exception &e) {
+        PyObject* mm = PyImport_AddModule("openmm");
+        PyObject* openmmException = (mm == NULL ? NULL : PyObject_GetAttrString(mm, "OpenMMException"));
+        PyErr_SetString(openmmException == NULL ? PyExc_Exception : openmmException, const_cast<char*>(e.what()));
+        Py_XDECREF(openmmException);
+        return NULL;
+    }
+}
+
+namespace std {
+    %template(vectori) vector<int>;
+    %template(vectord) vector<double>;
+}
+
+namespace RigidLangevinPlugin {
+
+%pythonprepend RigidLangevinIntegrator::RigidLangevinIntegrator %{
+    viscosity = _units.viscosity_value(viscosity)
+%}
+%pythonappend RigidLangevinIntegrator::getTemperature %{
+    val = unit.Quantity(val, unit.kelvin)
+%}
+%pythonappend RigidLangevinIntegrator::getViscosity %{
+    val = unit.Quantity(val, _units.md_viscosity)
+%}
+%pythonprepend RigidLangevinIntegrator::setViscosity %{
+    viscosity = _units.viscosity_value(viscosity)
+%}
+%pythonprepend RigidLangevinIntegrator::addRigidBody %{
+    particles = [int(p) for p in particles]
+%}
+%pythonappend RigidLangevinIntegrator::getRigidBodyParticles %{
+    val = tuple(val)
+%}
+%pythonprepend RigidLangevinIntegrator::setBodyResistance %{
+    tensor = _units.tensor_values(tensor)
+%}
+%pythonappend RigidLangevinIntegrator::getParticleRadius %{
+    val = None if val < 0 else unit.Quantity(val, unit.nanometer)
+%}
+%pythonappend RigidLangevinIntegrator::computeSystemTemperature %{
+    val = unit.Quantity(val, unit.kelvin)
+%}
+%pythonappend RigidLangevinIntegrator::computeTranslationalTemperature %{
+    val = unit.Quantity(val, unit.kelvin)
+%}
+%pythonappend RigidLangevinIntegrator::computeRotationalTemperature %{
+    val = unit.Quantity(val, unit.kelvin)
+%}
+
+%newobject RigidLangevinIntegrator::_clone;
+%newobject RigidLangevinIntegrator::_deserialize;
+
+class RigidLangevinIntegrator : public OpenMM::Integrator {
+public:
+    enum Scheme {
+        ExactFlow = 0,
+        BAOAB = 1,
+        Original = 2
+    };
+    RigidLangevinIntegrator(double temperature, double viscosity, double stepSize);
+    double getTemperature() const;
+    void setTemperature(double temp);
+    double getViscosity() const;
+    void setViscosity(double viscosity);
+    Scheme getScheme() const;
+    void setScheme(Scheme scheme);
+    int getRandomNumberSeed() const;
+    void setRandomNumberSeed(int seed);
+    int addRigidBody(const std::vector<int>& particles);
+    int getNumRigidBodies() const;
+    const std::vector<int>& getRigidBodyParticles(int index) const;
+    void setBodyResistance(int index, const std::vector<double>& tensor, const Vec3& origin);
+    void clearBodyResistance(int index);
+    void setParticleRadius(int particle, double radius);
+    double getParticleRadius(int particle) const;
+    int getNumDegreesOfFreedom() const;
+    double computeSystemTemperature();
+    double computeTranslationalTemperature();
+    double computeRotationalTemperature();
+    void step(int steps);
+
+    %extend {
+        /* The explicit tensor of a body as (6x6 numpy array, origin Vec3 in nm), or None. */
+        PyObject* _getBodyResistance(int index) const {
+            std::vector<double> tensor;
+            Vec3 origin;
+            if (!self->getBodyResistance(index, tensor, origin))
+                Py_RETURN_NONE;
+            PyObject* values = PyList_New(36);
+            for (int i = 0; i < 36; i++)
+                PyList_SET_ITEM(values, i, PyFloat_FromDouble(tensor[i]));
+            return Py_BuildValue("(N(ddd))", values, origin[0], origin[1], origin[2]);
+        }
+        RigidLangevinPlugin::RigidLangevinIntegrator* _clone() const {
+            return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(OpenMM::XmlSerializer::clone<OpenMM::Integrator>(*self));
+        }
+        static RigidLangevinPlugin::RigidLangevinIntegrator* _deserialize(const std::string& xml) {
+            std::stringstream stream(xml);
+            return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(OpenMM::XmlSerializer::deserialize<OpenMM::Integrator>(stream));
+        }
+        /* Cast an openmm.Integrator (e.g. from Context.getIntegrator()) to RigidLangevinIntegrator. */
+        static RigidLangevinPlugin::RigidLangevinIntegrator& cast(OpenMM::Integrator& integrator) {
+            return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator&>(integrator);
+        }
+        static bool isinstance(OpenMM::Integrator& integrator) {
+            return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(&integrator) != NULL;
+        }
+        %pythoncode %{
+            def getBodyResistance(self, index):
+                """The explicit resistance tensor of a body, as (6x6 numpy array, origin Vec3 in nm), or None."""
+                return _units.resistance_result(self._getBodyResistance(index))
+
+            def __copy__(self):
+                return self._clone()
+
+            def __deepcopy__(self, memo):
+                return self._clone()
+
+            def __getstate__(self):
+                return openmm.XmlSerializer.serialize(self)
+
+            def __setstate__(self, state):
+                self.this = RigidLangevinIntegrator._deserialize(state).this
+        %}
+    }
+};
+
+%pythonappend ResistanceTensor::getMatrix %{
+    val = _units.matrix6(val)
+%}
+%pythonprepend ResistanceTensor::fromMatrix %{
+    matrix = _units.tensor_values(matrix)
+%}
+%pythonappend ResistanceTensor::getOrigin %{
+    val = unit.Quantity(val, unit.nanometer)
+%}
+%pythonappend ResistanceTensor::getCenterOfResistance %{
+    val = unit.Quantity(val, unit.nanometer)
+%}
+%pythonprepend ResistanceTensor::rotated %{
+    rotation = _units.rotation_values(rotation)
+%}
+%rename("explicit") ResistanceTensor::fromMatrix;
+
+class ResistanceTensor {
+public:
+    ResistanceTensor();
+    static ResistanceTensor fromMatrix(const std::vector<double>& matrix, const Vec3& origin);
+    static ResistanceTensor sphere(double radius, const Vec3& center = Vec3());
+    static ResistanceTensor freeDrainingBeads(const std::vector<Vec3>& positions, const std::vector<double>& radii);
+    const Vec3& getOrigin() const;
+    std::vector<double> getMatrix(const Vec3& origin) const;
+    std::vector<double> getMatrix() const;
+    Vec3 getCenterOfResistance() const;
+    ResistanceTensor rotated(const std::vector<double>& rotation) const;
+    ResistanceTensor translated(const Vec3& displacement) const;
+    ResistanceTensor scaled(double factor) const;
+    void validate(const std::string& what) const;
+};
+
+}

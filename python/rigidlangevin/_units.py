@@ -1,0 +1,60 @@
+"""Unit handling of the Python wrapper: viscosities, tensors and rotations given as Quantities or arrays."""
+import numpy as np
+import openmm.unit as unit
+
+AVOGADRO = 6.02214076e23
+
+#: The viscosity unit of OpenMM's MD unit system, amu/(nm*ps) per molecule. openmm.unit writes
+#: dalton as g/mol, so dalton/(nm*ps) carries a 1/mol that Pa*s does not: 1 Pa*s is
+#: 6.02214076e5 amu/(nm*ps), not 1e-18. This unit is compatible with Pa*s and has that scale.
+md_viscosity = unit.Unit({unit.ScaledUnit(1e18/AVOGADRO, unit.pascal*unit.second, 'amu/(nm*ps)', 'amu/(nm*ps)'): 1.0})
+
+#: The CGS unit of viscosity, 0.1 Pa*s.
+poise = unit.Unit({unit.ScaledUnit(0.1, unit.pascal*unit.second, 'poise', 'P'): 1.0})
+
+#: 1e-3 Pa*s, about the viscosity of water at 20 C.
+centipoise = unit.Unit({unit.ScaledUnit(1e-3, unit.pascal*unit.second, 'centipoise', 'cP'): 1.0})
+
+_md_per_molecule = unit.dalton/(unit.nanometer*unit.picosecond)
+
+
+def viscosity_value(viscosity):
+    """A viscosity in amu/(nm*ps) as a float, from a float (taken as amu/(nm*ps)) or any Quantity of
+    viscosity: Pa*s, poise, centipoise, or openmm.unit's dalton/(nm*ps)."""
+    if not unit.is_quantity(viscosity):
+        return float(viscosity)
+    if viscosity.unit.is_compatible(unit.pascal*unit.second):
+        return viscosity.value_in_unit(md_viscosity)
+    if viscosity.unit.is_compatible(_md_per_molecule):
+        return viscosity.value_in_unit(_md_per_molecule)
+    raise TypeError(f'{viscosity} is not a viscosity: give it in poise, centipoise, Pa*s or amu/(nm*ps)')
+
+
+def tensor_values(tensor):
+    """36 floats, row-major, from a 6x6 array-like or a flat sequence of 36."""
+    values = np.asarray(tensor, dtype=float)
+    if values.shape not in ((6, 6), (36,)):
+        raise ValueError(f'a resistance tensor is a 6x6 matrix (or 36 values), got shape {values.shape}')
+    return [float(v) for v in values.reshape(36)]
+
+
+def rotation_values(rotation):
+    """9 floats, row-major, from a 3x3 array-like or 9 values."""
+    values = np.asarray(rotation, dtype=float)
+    if values.shape not in ((3, 3), (9,)):
+        raise ValueError(f'a rotation is a 3x3 matrix (or 9 values), got shape {values.shape}')
+    return [float(v) for v in values.reshape(9)]
+
+
+def matrix6(values):
+    """A 6x6 numpy array from 36 row-major values."""
+    return np.array(values, dtype=float).reshape(6, 6)
+
+
+def resistance_result(result):
+    """(6x6 array, origin Vec3 in nm) from the wrapper's (36 values, (x, y, z)), or None."""
+    if result is None:
+        return None
+    import openmm
+    values, origin = result
+    return matrix6(values), unit.Quantity(openmm.Vec3(*origin), unit.nanometer)
