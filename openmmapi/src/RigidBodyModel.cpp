@@ -258,6 +258,8 @@ int RigidBodyModel::createType(int body, const vector<Vec3>& offsets, const Vec3
         t.numRotations = 2;
     else
         t.numRotations = 3;
+    if (t.numRotations == 2)
+        moments[1] = moments[2] = 0.5*(moments[1]+moments[2]);  // equal by symmetry; exact rotation relies on it
     for (int k = 0; k < 3; k++)
         t.inertia[k] = (t.rotates(k) ? moments[k] : 0.0);
     Eigen::Matrix3d q = (t.numRotations == 0 ? Eigen::Matrix3d::Identity() : Eigen::Matrix3d(axes.transpose()));

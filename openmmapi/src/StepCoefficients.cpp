@@ -92,8 +92,15 @@ vector<TypeStepCoefficients> RigidLangevinPlugin::computeStepCoefficients(const 
         c.toModes.topLeftCorner(dof, dof) = s.transpose()*mass.cwiseSqrt().asDiagonal();
         c.fromModes.topLeftCorner(dof, dof) = invSqrtMass.asDiagonal()*s;
         double lambdaMax = 0;
+        c.halfSteps = (scheme == RigidLangevinIntegrator::ExactFlow && type.numRotations > 0);
+        double modeStep = (c.halfSteps ? 0.5*stepSize : stepSize);
         for (int i = 0; i < 6; i++)
-            c.modes[i] = computeModeCoefficients(i < dof ? std::max(0.0, lambda[i]) : 0.0, kT, stepSize);
+            c.modes[i] = computeModeCoefficients(i < dof ? std::max(0.0, lambda[i]) : 0.0, kT, modeStep);
+        for (int k = 0; k < 6; k++) {
+            double m = (k < 3 ? type.mass : type.inertia[k-3]);
+            double x = (m > 0 ? stepSize*viscosity*type.resistance(k, k)/m : 0.0);
+            c.driveFraction[k] = (x == 0 ? 1.0 : -2*std::expm1(-0.5*x)/x);
+        }
         for (int i = 0; i < dof; i++)
             lambdaMax = std::max(lambdaMax, lambda[i]);
         c.stiffness = 0.5*stepSize*lambdaMax;

@@ -51,25 +51,65 @@ inline void rotateAboutAxis(double q[3][3], int axis, double angle, OpenMM::Vec3
 }
 
 /**
- * The symmetric DLM splitting of free rotation over a time dt: exact rotations about body axes
- * x(dt/2) y(dt/2) z(dt) y(dt/2) x(dt/2), each by the angle (sub-step)*drive_k/I_k taken from the
- * current, already rotated, drive. `drive` is rotated along, and so are the `carried` vectors.
- * With drive = j this is the time-reversible, symplectic free-rotor map of Dullweber, Leimkuhler
- * and McLachlan; axes that do not rotate are skipped.
+ * Rotate a body by the rotation vector phi (body frame): Q -> R^T Q and v -> R^T v for each
+ * body-frame vector, with R = exp(skew(phi)) by Rodrigues' formula.
  */
-inline void dlmRotate(double q[3][3], const BodyType& type, double dt, OpenMM::Vec3& drive, OpenMM::Vec3* carried, int numCarried) {
-    static const int axes[5] = {0, 1, 2, 1, 0};
-    static const double fractions[5] = {0.5, 0.5, 1.0, 0.5, 0.5};
+inline void rotateByVector(double q[3][3], const OpenMM::Vec3& phi, OpenMM::Vec3* vectors, int numVectors) {
+    double angle = std::sqrt(phi.dot(phi));
+    if (angle == 0)
+        return;
+    OpenMM::Vec3 n = phi/angle;
+    double cs = std::cos(angle), sn = std::sin(angle);
+    // R^T v = cos(a) v - sin(a) n x v + (1-cos(a)) (n.v) n
+    auto apply = [&](const OpenMM::Vec3& v) {
+        return v*cs-n.cross(v)*sn+n*((1-cs)*n.dot(v));
+    };
+    for (int k = 0; k < 3; k++) {
+        OpenMM::Vec3 column = apply(OpenMM::Vec3(q[0][k], q[1][k], q[2][k]));
+        for (int i = 0; i < 3; i++)
+            q[i][k] = column[i];
+    }
+    for (int i = 0; i < numVectors; i++)
+        vectors[i] = apply(vectors[i]);
+}
+
+/**
+ * A linear body has no angular momentum about its axis (body axis 0); rotations of the frame tilt
+ * carried vectors onto it, and that component is removed.
+ */
+inline void removeAxialComponent(const BodyType& type, OpenMM::Vec3& v) {
+    for (int k = 0; k < 3; k++)
+        if (!type.rotates(k))
+            v[k] = 0;
+}
+
+/**
+ * The free rotation of a body over a time dt, driven by the body-frame angular momentum `drive`
+ * (rotated along, like the `carried` vectors). For a body with three moments this is the symmetric
+ * DLM splitting of Dullweber, Leimkuhler and McLachlan: exact rotations about the body axes
+ * x(dt/2) y(dt/2) z(dt) y(dt/2) x(dt/2), each by the angle (sub-step)*drive_k/I_k of the current
+ * drive; time-reversible and symplectic. A linear body (equal moments about axes 1 and 2) rotates
+ * exactly, about its angular velocity.
+ */
+inline void freeRotate(double q[3][3], const BodyType& type, double dt, OpenMM::Vec3& drive, OpenMM::Vec3* carried, int numCarried) {
     OpenMM::Vec3 vectors[3];
     vectors[0] = drive;
     for (int i = 0; i < numCarried; i++)
         vectors[i+1] = carried[i];
-    for (int s = 0; s < 5; s++) {
-        int axis = axes[s];
-        if (!type.rotates(axis))
-            continue;
-        double angle = fractions[s]*dt*vectors[0][axis]/type.inertia[axis];
-        rotateAboutAxis(q, axis, angle, vectors, numCarried+1);
+    if (type.numRotations == 2) {
+        OpenMM::Vec3 phi(0, dt*drive[1]/type.inertia[1], dt*drive[2]/type.inertia[2]);
+        rotateByVector(q, phi, vectors, numCarried+1);
+        for (int i = 0; i <= numCarried; i++)
+            removeAxialComponent(type, vectors[i]);
+    }
+    else {
+        static const int axes[5] = {0, 1, 2, 1, 0};
+        static const double fractions[5] = {0.5, 0.5, 1.0, 0.5, 0.5};
+        for (int s = 0; s < 5; s++) {
+            int axis = axes[s];
+            double angle = fractions[s]*dt*vectors[0][axis]/type.inertia[axis];
+            rotateAboutAxis(q, axis, angle, vectors, numCarried+1);
+        }
     }
     drive = vectors[0];
     for (int i = 0; i < numCarried; i++)
@@ -109,14 +149,29 @@ inline void multiply(const Matrix6& a, const TypeStepCoefficients& c, const doub
 
 /**
  * The exact flow of the free body under friction and noise over h (the ExactFlow scheme, between
- * the force kicks). Velocity and displacement of every mode are drawn jointly from their exact
- * Gaussian; the translation is applied in the body frame of the start of the step, and the rotation
- * through the DLM sequence driven by the mean angular momentum of the step, I*theta/h, so that with
- * no friction this is exactly the velocity Verlet drift with DLM rotation.
+ * the force kicks). The linear Langevin equation of the body-frame velocities U is solved exactly:
+ * end velocity and displacement X (the integral of U) of every mode are drawn jointly from their
+ * exact Gaussian. Bodies that rotate take it as two exact halves, so that the mid-step velocity,
+ * exactly Maxwellian, is known too.
+ *
+ * What the linear flow lacks is second order in the step and comes from the frame turning:
+ *  - Rotation: theta (the rotational part of X) plus the free rotor's gyroscopic motion. A fraction
+ *    c of the mid-step angular velocity w (TypeStepCoefficients::driveFraction) drives a free
+ *    rotation over h; the rest of theta is applied half before, half after it:
+ *    exp((theta - h c w)/2) freeRotate(I c w, h) exp((theta - h c w)/2). Driving it with an
+ *    equal-time velocity keeps its mean zero, as the true gyroscopic term's is.
+ *  - Translation: friction and noise act in the turning body frame, which adds (theta x X)/2 in the
+ *    mean (the Stratonovich drift that makes the centre of diffusion, not the centre of mass, set
+ *    the long-time diffusion). Without friction the body frame does not matter, so the same
+ *    product of mid-step velocities, (h c w) x (h c v)/2, is taken off: zero in the mean, all of it
+ *    at zero viscosity.
+ *  - Angular momentum: the end value turns by its own free-rotor motion, scaled by c.
+ * Without friction this is exactly velocity Verlet with DLM rotation; with stiff friction c ->
+ * 2/(gamma h) and it tends to Brownian dynamics with the right drift.
  */
 template <class Random>
 void exactFlow(BodyState& s, const BodyType& type, const TypeStepCoefficients& c, double h, Random& random) {
-    double u[6], a[6], y[6], displacement[6];
+    double u[6], a[6], mid[6], y[6], displacement[6];
     generalizedVelocity(s, type, c, u);
     multiply(c.toModes, c, u, a);
     for (int i = 0; i < c.dof; i++) {
@@ -124,10 +179,16 @@ void exactFlow(BodyState& s, const BodyType& type, const TypeStepCoefficients& c
         double n1 = random.next(), n2 = random.next();
         y[i] = m.drift*a[i]+m.noiseCross*n1+m.noiseDisplacement*n2;
         a[i] = m.decay*a[i]+m.noiseVelocity*n1;
+        if (c.halfSteps) {
+            mid[i] = a[i];
+            double n3 = random.next(), n4 = random.next();
+            y[i] += m.drift*a[i]+m.noiseCross*n3+m.noiseDisplacement*n4;
+            a[i] = m.decay*a[i]+m.noiseVelocity*n3;
+        }
     }
     multiply(c.fromModes, c, a, u);
     multiply(c.fromModes, c, y, displacement);
-    OpenMM::Vec3 dx, vb, j, drive;
+    OpenMM::Vec3 dx, vb, j, theta;
     for (int i = 0; i < c.dof; i++) {
         int k = c.active[i];
         if (k < 3) {
@@ -136,15 +197,40 @@ void exactFlow(BodyState& s, const BodyType& type, const TypeStepCoefficients& c
         }
         else {
             j[k-3] = type.inertia[k-3]*u[i];
-            drive[k-3] = type.inertia[k-3]*displacement[i]/h;
+            theta[k-3] = displacement[i];
         }
     }
-    s.position += toLab(s.rotation, dx);
     s.velocity = toLab(s.rotation, vb);
-    if (type.numRotations > 0) {
-        dlmRotate(s.rotation, type, h, drive, &j, 1);
-        s.angularMomentum = j;
+    if (type.numRotations == 0) {
+        s.position += toLab(s.rotation, dx);
+        return;
     }
+    double midVelocity[6];
+    multiply(c.fromModes, c, mid, midVelocity);
+    OpenMM::Vec3 vMid, wMid;  // mid-step velocities, scaled by their drive fractions
+    for (int i = 0; i < c.dof; i++) {
+        int k = c.active[i];
+        if (k < 3)
+            vMid[k] = c.driveFraction[k]*midVelocity[i];
+        else
+            wMid[k-3] = c.driveFraction[k]*midVelocity[i];
+    }
+    s.position += toLab(s.rotation, dx+(theta.cross(dx)-wMid.cross(vMid)*(h*h))*0.5);
+    OpenMM::Vec3 drive, rest;
+    for (int k = 0; k < 3; k++) {
+        drive[k] = type.inertia[k]*wMid[k];
+        rest[k] = 0.5*(theta[k]-h*wMid[k]);
+    }
+    rotateByVector(s.rotation, rest, &drive, 1);
+    freeRotate(s.rotation, type, h, drive, NULL, 0);
+    rotateByVector(s.rotation, rest, NULL, 0);
+    OpenMM::Vec3 jDrive;
+    for (int k = 0; k < 3; k++)
+        jDrive[k] = c.driveFraction[3+k]*j[k];
+    double frame[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    freeRotate(frame, type, h, jDrive, &j, 1);
+    s.angularMomentum = j;
+    removeAxialComponent(type, s.angularMomentum);
 }
 
 /** The exact Ornstein-Uhlenbeck step of the velocities over h (BAOAB's O). */
@@ -167,11 +253,11 @@ void ornsteinUhlenbeck(BodyState& s, const BodyType& type, const TypeStepCoeffic
     s.velocity = toLab(s.rotation, vb);
 }
 
-/** The free drift over dt: translation and DLM rotation (BAOAB's A). */
+/** The free drift over dt: translation and free rotation (BAOAB's A, velocity Verlet's drift). */
 inline void drift(BodyState& s, const BodyType& type, double dt) {
     s.position += s.velocity*dt;
     if (type.numRotations > 0)
-        dlmRotate(s.rotation, type, dt, s.angularMomentum, NULL, 0);
+        freeRotate(s.rotation, type, dt, s.angularMomentum, NULL, 0);
 }
 
 /** Iterations and tolerance of the Original scheme's fixed-point iteration, as in OpenMD. */

@@ -46,7 +46,20 @@ struct TypeStepCoefficients {
     int dof;
     int active[6];                ///< the active generalized coordinates, 0-5
     Matrix6 toModes, fromModes;   ///< ExactFlow and BAOAB
-    ModeCoefficients modes[6];    ///< ExactFlow (all terms) and BAOAB (decay, noiseVelocity)
+    /**
+     * ExactFlow: the modes over h/2 if halfSteps (bodies that rotate: the flow is taken as two exact
+     * halves to get the mid-step angular velocity that drives the gyroscopic rotation), else over h.
+     * BAOAB: over h (decay and noiseVelocity).
+     */
+    ModeCoefficients modes[6];
+    bool halfSteps;
+    /**
+     * ExactFlow: per generalized coordinate (0-5), c = (2/x)(1-exp(-x/2)) with x = h*K_kk: the
+     * fraction of a velocity that still moves the body ballistically over a step. It scales the
+     * velocities that drive the free-rotor (gyroscopic) motion: 1 without friction, 2/(gamma h) when
+     * friction is stiff and a body no longer turns ballistically within a step.
+     */
+    double driveFraction[6];
     Matrix6 friction;             ///< Original: viscosity*Xi on the active coordinates
     Matrix6 randomForce;          ///< Original: Cholesky factor of 2 kT viscosity Xi / h
     double inverseMass[6];        ///< Original: M^-1 on the active coordinates

@@ -120,6 +120,7 @@ void ReferenceIntegrateRigidLangevinStepKernel::execute(ContextImpl& context, co
     vector<Vec3> forces, torques;
     computeBodyForces(forces, torques);
     RigidLangevinIntegrator::Scheme scheme = integrator.getScheme();
+    bool frictionless = (integrator.getViscosity() == 0);
     for (int b = 0; b < numBodies; b++) {
         const BodyType& type = model->getType(model->getBodyType(b));
         const TypeStepCoefficients& c = coefficients[model->getBodyType(b)];
@@ -129,12 +130,18 @@ void ReferenceIntegrateRigidLangevinStepKernel::execute(ContextImpl& context, co
             continue;
         }
         // The two half kicks of consecutive steps, as one: velocities are kept between flow and kick.
+        // Without friction both schemes are plain velocity Verlet with free rotation.
         BodyDynamics::kick(s, type, forces[b], torques[b], h);
-        if (scheme == RigidLangevinIntegrator::ExactFlow)
-            BodyDynamics::exactFlow(s, type, c, h, *random);
+        if (scheme == RigidLangevinIntegrator::ExactFlow) {
+            if (frictionless)
+                BodyDynamics::drift(s, type, h);
+            else
+                BodyDynamics::exactFlow(s, type, c, h, *random);
+        }
         else {
             BodyDynamics::drift(s, type, 0.5*h);
-            BodyDynamics::ornsteinUhlenbeck(s, type, c, *random);
+            if (!frictionless)
+                BodyDynamics::ornsteinUhlenbeck(s, type, c, *random);
             BodyDynamics::drift(s, type, 0.5*h);
         }
     }

@@ -1,0 +1,134 @@
+/*
+ * Long-time diffusion of a free asymmetric body whose resistance tensor couples translation and
+ * rotation, with the tensor given about a point off the centre of mass (PHYSICS.md section 5): the
+ * diffusion tensor is D = kT (viscosity Xi)^-1.
+ *  - Translation: the centre of diffusion (where the coupling block of D is symmetric) has mean
+ *    square displacement 6 Dbar t, Dbar = tr(D_tt there)/3; its slope is measured between two lags.
+ *    (The centre of mass has a larger short-time diffusion; following it instead would converge to
+ *    the same slope only slowly.)
+ *  - Rotation: for the principal axes e_i of D_rr (eigenvalues D_i), the body-fixed unit vectors
+ *    along them decorrelate as <u_i(t).u_i(0)> = exp(-(D_j + D_k) t) (Favro); the rate is measured
+ *    between two lags, which removes the velocities' short memory.
+ * Default scheme, at gamma h = 0.1 and 100, each within 3%.
+ */
+#include "RigidBodyTestUtilities.h"
+#include <gtest/gtest.h>
+
+using namespace OpenMM;
+using namespace RigidLangevinPlugin;
+using namespace RigidBodyTest;
+
+namespace {
+
+/**
+ * rotationPerStep is the mean rotational diffusion per step, D_r h. The law kT Xi^-1 is the
+ * Brownian limit: it holds when the velocities forget much faster than the body turns, i.e. when
+ * D_r/lambda_min (lambda_min the slowest velocity relaxation rate) is small. At fixed gamma h that
+ * ratio is set by D_r h, so the low-friction case needs a small one (and a long run).
+ */
+void checkCoupledDiffusion(double gammaH, double rotationPerStep, int numBodies, int numSamples) {
+    const double temperature = 300, kT = BOLTZ*temperature;
+    BodyShape shape = asymmetricBody();
+    Eigen::Matrix<double, 6, 6> xi = coupledTensor();
+    Eigen::Vector3d offset(0.05, 0.03, 0.01);  // tensor origin relative to the centre of mass
+    // The step gives the wanted D_r h, the viscosity the wanted gamma h (translational).
+    double trXtt = xi.block<3, 3>(0, 0).trace();
+    double meanDrr = xi.inverse().block<3, 3>(3, 3).trace()/3;
+    double h = std::sqrt(rotationPerStep*3*shape.mass*gammaH/(kT*trXtt*meanDrr));
+    double viscosity = gammaH*3*shape.mass/(trXtt*h);
+    Eigen::Matrix<double, 6, 6> diffusionAtOrigin = kT*(viscosity*xi).inverse();
+    Eigen::Matrix<double, 6, 6> diffusion = moveMobility(diffusionAtOrigin, -offset);  // about the centre of mass
+    Eigen::Vector3d center = centerOfDiffusion(diffusion);
+    double translational = moveMobility(diffusion, center).block<3, 3>(0, 0).trace()/3;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> rotational(diffusion.block<3, 3>(3, 3));
+
+    // The slowest velocity relaxation rate: the smallest eigenvalue of M^-1/2 (viscosity Xi) M^-1/2
+    // in the principal frame at the centre of mass (the tensor moves from its origin by -offset).
+    Eigen::Matrix<double, 6, 6> a = Eigen::Matrix<double, 6, 6>::Identity(), r = Eigen::Matrix<double, 6, 6>::Zero();
+    a.block<3, 3>(0, 3) = skew(-offset);
+    r.block<3, 3>(0, 0) = r.block<3, 3>(3, 3) = shape.axes.transpose();
+    Eigen::Matrix<double, 6, 6> friction = viscosity*r*a.transpose()*xi*a*r.transpose();
+    Eigen::Matrix<double, 6, 1> invSqrtMass;
+    invSqrtMass << Eigen::Vector3d::Constant(1/std::sqrt(shape.mass)), shape.moments.cwiseSqrt().cwiseInverse();
+    double slowest = (invSqrtMass.asDiagonal()*friction*invSqrtMass.asDiagonal()).eigenvalues().real().minCoeff();
+    // Lags: the first six relaxation times of that mode in, the second ~0.7 of the fastest rotational
+    // decay later; samples spaced so that the run covers ~110 rotational decay times.
+    double firstLag = 6/slowest;
+    double fastestDecay = rotational.eigenvalues().sum()-rotational.eigenvalues()[0];
+    int stride = std::max(1, (int) std::round(std::max(firstLag/8, 110/(fastestDecay*numSamples))/h));
+    double dt = stride*h;
+    int lag1 = (int) std::ceil(firstLag/dt), lag2 = lag1+(int) std::round(0.7/fastestDecay/dt);
+    std::cout << "gamma h = " << gammaH << ": D_r/lambda_min = " << meanDrr*kT/viscosity/slowest << ", " << stride*numSamples << " steps" << std::endl;
+
+    System system;
+    RigidLangevinIntegrator integrator(temperature, viscosity, h);
+    integrator.setRandomNumberSeed(21);
+    std::vector<Vec3> positions;
+    for (int b = 0; b < numBodies; b++) {
+        std::vector<int> particles;
+        for (int i = 0; i < 4; i++) {
+            particles.push_back(system.addParticle(shape.masses[i]));
+            positions.push_back(toVec3(shape.reference[i]+Eigen::Vector3d(3.0*b, 0, 0)));
+        }
+        integrator.addRigidBody(particles);
+        integrator.setBodyResistance(b, flatten(xi), toVec3(offset+Eigen::Vector3d(3.0*b, 0, 0)));
+    }
+    Context context(system, integrator, Platform::getPlatformByName("Reference"));
+    context.setPositions(positions);
+    context.setVelocitiesToTemperature(temperature, 8);
+    std::vector<std::vector<Eigen::Vector3d> > centers;
+    std::vector<std::vector<Eigen::Matrix3d> > axes;  // columns: D_rr principal axes, lab frame
+    std::vector<Vec3> pos, vel;
+    for (int s = 0; s < numSamples; s++) {
+        integrator.step(stride);
+        getParticles(context, pos, vel);
+        std::vector<Eigen::Vector3d> c;
+        std::vector<Eigen::Matrix3d> a;
+        for (int b = 0; b < numBodies; b++) {
+            MeasuredBody body = shape.measure(pos, vel, 4*b);
+            c.push_back(body.com+body.rotation*center);
+            a.push_back(body.rotation*rotational.eigenvectors());
+        }
+        centers.push_back(c);
+        axes.push_back(a);
+    }
+    auto average = [&](int lag, auto f) {
+        Series s;
+        for (int i = 0; i+lag < numSamples; i++) {
+            double sum = 0;
+            for (int b = 0; b < numBodies; b++)
+                sum += f(i, i+lag, b);
+            s.add(sum/numBodies);
+        }
+        return s;
+    };
+
+    // Translation: slope of the mean square displacement of the centre of diffusion.
+    auto msd = [&](int i, int j, int b) {return (centers[j][b]-centers[i][b]).squaredNorm();};
+    Series m1 = average(lag1, msd), m2 = average(lag2, msd);
+    double slope = (m2.mean()-m1.mean())/(6*(lag2-lag1)*dt);
+    double slopeError = std::sqrt(m1.standardError()*m1.standardError()+m2.standardError()*m2.standardError())/(6*(lag2-lag1)*dt);
+    std::cout << "gamma h = " << gammaH << ": translational diffusion " << slope << " +- " << slopeError << ", exact " << translational << std::endl;
+    EXPECT_LT(3*slopeError, 0.03*translational);
+    EXPECT_NEAR(translational, slope, 0.03*translational);
+
+    // Rotation: Favro's decay rates, between two lags.
+    int rlag1 = lag1, rlag2 = lag2;
+    for (int k = 0; k < 3; k++) {
+        auto corr = [&](int i, int j, int b) {return axes[i][b].col(k).dot(axes[j][b].col(k));};
+        Series c1 = average(rlag1, corr), c2 = average(rlag2, corr);
+        double rate = std::log(c1.mean()/c2.mean())/((rlag2-rlag1)*dt);
+        double rateError = std::sqrt(std::pow(c1.standardError()/c1.mean(), 2)+std::pow(c2.standardError()/c2.mean(), 2))/((rlag2-rlag1)*dt);
+        double exact = rotational.eigenvalues().sum()-rotational.eigenvalues()[k];
+        std::cout << "gamma h = " << gammaH << ": decay rate about D_rr axis " << k << " " << rate << " +- " << rateError << ", exact " << exact << std::endl;
+        EXPECT_LT(3*rateError, 0.03*exact);
+        EXPECT_NEAR(exact, rate, 0.03*exact);
+    }
+}
+
+} // namespace
+
+TEST(CoupledDiffusion, LongTimeDiffusionIsKTOverXi) {
+    checkCoupledDiffusion(0.1, 2e-4, 160, 4000);
+    checkCoupledDiffusion(100.0, 2e-3, 160, 4000);
+}

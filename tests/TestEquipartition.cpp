@@ -1,0 +1,122 @@
+/*
+ * Equipartition of free asymmetric bodies whose 6x6 resistance tensor couples translation and
+ * rotation and is given about a point off the centre of mass (PHYSICS.md section 5): the
+ * mass-weighted generalized velocity (sqrt(m) V, sqrt(I_k) omega_k along the principal axes) must
+ * have covariance kT times the identity, at any friction, in the ExactFlow and BAOAB schemes. The
+ * stiff end (gamma h = 1000, the viscosity of 1 poise on a water-sized body) is the point.
+ */
+#include "RigidBodyTestUtilities.h"
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+
+using namespace OpenMM;
+using namespace RigidLangevinPlugin;
+using namespace RigidBodyTest;
+
+namespace {
+
+struct Covariance {
+    Eigen::Matrix<double, 6, 6> mean, error;
+};
+
+/** gammaH: the translational friction rate (trace(Xtt)/3 viscosity/m) times the step. */
+Covariance measureCovariance(RigidLangevinIntegrator::Scheme scheme, double gammaH, int numBodies, int stride, int numSamples) {
+    const double temperature = 300, h = 0.002;
+    BodyShape shape = asymmetricBody();
+    Eigen::Matrix<double, 6, 6> xi = coupledTensor();
+    Eigen::Vector3d offset(0.05, 0.03, 0.01);  // tensor origin relative to the centre of mass
+    double viscosity = gammaH/(h*xi.block<3, 3>(0, 0).trace()/3/shape.mass);
+    System system;
+    RigidLangevinIntegrator integrator(temperature, viscosity, h);
+    integrator.setScheme(scheme);
+    integrator.setRandomNumberSeed(1234);
+    std::vector<Vec3> positions;
+    for (int b = 0; b < numBodies; b++) {
+        // Each body turned differently, with its tensor given in the lab frame accordingly, so all
+        // must still be recognised as one type.
+        Eigen::Matrix3d r = Eigen::AngleAxisd(0.37*b, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+        Eigen::Vector3d centre(2.0*b, 0, 0);
+        std::vector<int> particles;
+        for (int i = 0; i < 4; i++) {
+            particles.push_back(system.addParticle(shape.masses[i]));
+            positions.push_back(toVec3(centre+r*shape.reference[i]));
+        }
+        integrator.addRigidBody(particles);
+        Eigen::Matrix<double, 6, 6> rotation = Eigen::Matrix<double, 6, 6>::Zero();
+        rotation.block<3, 3>(0, 0) = r;
+        rotation.block<3, 3>(3, 3) = r;
+        integrator.setBodyResistance(b, flatten(rotation*xi*rotation.transpose()), toVec3(centre+r*offset));
+    }
+    Context context(system, integrator, Platform::getPlatformByName("Reference"));
+    context.setPositions(positions);
+    context.setVelocitiesToTemperature(temperature, 99);
+    double kT = BOLTZ*temperature;
+    Series series[6][6];
+    std::vector<Vec3> pos, vel;
+    for (int s = 0; s < numSamples; s++) {
+        integrator.step(stride);
+        getParticles(context, pos, vel);
+        Eigen::Matrix<double, 6, 6> sum = Eigen::Matrix<double, 6, 6>::Zero();
+        for (int b = 0; b < numBodies; b++) {
+            Eigen::Matrix<double, 6, 1> w = shape.weightedVelocity(shape.measure(pos, vel, 4*b));
+            sum += w*w.transpose();
+        }
+        for (int i = 0; i < 6; i++)
+            for (int j = 0; j < 6; j++)
+                series[i][j].add(sum(i, j)/(numBodies*kT));
+    }
+    Covariance run;
+    for (int i = 0; i < 6; i++)
+        for (int j = 0; j < 6; j++) {
+            run.mean(i, j) = series[i][j].mean();
+            run.error(i, j) = series[i][j].standardError();
+        }
+    return run;
+}
+
+void checkEquipartition(const Covariance& run) {
+    for (int i = 0; i < 6; i++)
+        for (int j = 0; j < 6; j++) {
+            SCOPED_TRACE("covariance element ("+std::to_string(i)+", "+std::to_string(j)+")");
+            // The runs are long enough to resolve a 5% deviation; the tolerance is five standard
+            // errors of the correlated samples.
+            ASSERT_LT(run.error(i, j), 0.01);
+            EXPECT_NEAR(i == j ? 1.0 : 0.0, run.mean(i, j), 5*run.error(i, j));
+        }
+}
+
+struct Case {
+    RigidLangevinIntegrator::Scheme scheme;
+    double gammaH;
+    int numBodies, stride, numSamples;
+};
+
+// Samples are taken about every half velocity relaxation time, enough of them for ~1% errors.
+const Case cases[] = {
+    {RigidLangevinIntegrator::ExactFlow, 1e-3, 400, 100, 300},
+    {RigidLangevinIntegrator::ExactFlow, 1.0, 400, 1, 300},
+    {RigidLangevinIntegrator::ExactFlow, 1e3, 400, 1, 300},
+    {RigidLangevinIntegrator::BAOAB, 1e-3, 400, 100, 300},
+    {RigidLangevinIntegrator::BAOAB, 1.0, 400, 1, 300},
+    {RigidLangevinIntegrator::BAOAB, 1e3, 400, 1, 300},
+};
+
+} // namespace
+
+TEST(Equipartition, FreeCoupledBodyAtEveryFriction) {
+    for (const Case& c : cases) {
+        SCOPED_TRACE("scheme "+std::to_string(c.scheme)+", gamma h = "+std::to_string(c.gammaH));
+        checkEquipartition(measureCovariance(c.scheme, c.gammaH, c.numBodies, c.stride, c.numSamples));
+    }
+}
+
+TEST(Equipartition, DetectsAWrongTemperature) {
+    // The same measurement must see a 10% error: run at 330 K and compare with 300 K.
+    Covariance run = measureCovariance(RigidLangevinIntegrator::ExactFlow, 1.0, 400, 1, 300);
+    double factor = 330.0/300.0;
+    int failures = 0;
+    for (int i = 0; i < 6; i++)
+        if (std::abs(run.mean(i, i)*factor-1.0) > 5*run.error(i, i))
+            failures++;
+    EXPECT_EQ(6, failures);
+}
