@@ -172,6 +172,18 @@ vector<Vec3> RigidBodyModel::unwrappedOffsets(int body, const vector<Vec3>& posi
         }
         rel[i] = d;
     }
+    if (box != NULL) {
+        // Particles each within half a box of the first can still span more than half a box
+        // together, and then which images belong together is ambiguous.
+        for (int i = 0; i < (int) particles.size(); i++)
+            for (int j = i+1; j < (int) particles.size(); j++) {
+                double dist = std::sqrt((rel[i]-rel[j]).dot(rel[i]-rel[j]));
+                if (dist >= halfWidth*(1-1e-12))
+                    throw OpenMMException("RigidLangevinIntegrator: "+bodyName(body, numUserBodies, particles)+" is wider than half the periodic box: particles "+
+                            std::to_string(particles[i])+" and "+std::to_string(particles[j])+" are "+str(dist)+" nm apart but half the box is "+str(halfWidth)+
+                            " nm. Use a larger box");
+            }
+    }
     double mass = 0;
     Vec3 com;
     for (int i = 0; i < (int) particles.size(); i++) {
