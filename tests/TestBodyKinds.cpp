@@ -172,7 +172,8 @@ TEST(BodyKinds, MasslessSiteCarriesForceAndTorque) {
         deviation[run] = std::sqrt(square);
         EXPECT_LT(maxDistanceChange(positions, context.getState(State::Positions).getPositions(), 0, 4), 1e-10);
         // The body moved: the tether pulled it.
-        EXPECT_GT(std::sqrt((context.getState(State::Positions).getPositions()[3]-positions[3]).dot(Vec3(1, 1, 1))), 0.0);
+        Vec3 moved = context.getState(State::Positions).getPositions()[3]-positions[3];
+        EXPECT_GT(std::sqrt(moved.dot(moved)), 0.01);
     }
     std::cout << "massless site: energy deviation " << deviation[0] << ", " << deviation[1] << " kJ/mol at h = 2, 1 fs" << std::endl;
     EXPECT_NEAR(4.0, deviation[0]/deviation[1], 0.5);
