@@ -157,9 +157,11 @@ public:
             std::stringstream stream(xml);
             return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(OpenMM::XmlSerializer::deserialize<OpenMM::Integrator>(stream));
         }
-        /* Cast an openmm.Integrator (e.g. from Context.getIntegrator()) to RigidLangevinIntegrator. */
-        static RigidLangevinPlugin::RigidLangevinIntegrator& cast(OpenMM::Integrator& integrator) {
-            return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator&>(integrator);
+        static RigidLangevinPlugin::RigidLangevinIntegrator& _cast(OpenMM::Integrator& integrator) {
+            RigidLangevinPlugin::RigidLangevinIntegrator* result = dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(&integrator);
+            if (result == NULL)
+                throw OpenMM::OpenMMException("RigidLangevinIntegrator.cast: this Integrator is not a RigidLangevinIntegrator");
+            return *result;
         }
         static bool isinstance(OpenMM::Integrator& integrator) {
             return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(&integrator) != NULL;
@@ -168,6 +170,16 @@ public:
             def getBodyResistance(self, index):
                 """The explicit resistance tensor of a body, as (6x6 numpy array, origin Vec3 in nm), or None."""
                 return _units.resistance_result(self._getBodyResistance(index))
+
+            @staticmethod
+            def cast(integrator):
+                """An openmm.Integrator that is a RigidLangevinIntegrator (from XmlSerializer.deserialize(), say)
+                as one. The result keeps the original object alive."""
+                if isinstance(integrator, RigidLangevinIntegrator):
+                    return integrator
+                result = RigidLangevinIntegrator._cast(integrator)
+                result._source = integrator
+                return result
 
             def __copy__(self):
                 return self._clone()

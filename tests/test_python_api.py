@@ -1,0 +1,127 @@
+"""The Python module: units, OpenMM interoperability, copying, errors."""
+import copy
+import pickle
+
+import numpy as np
+import openmm as mm
+import openmm.unit as unit
+import pytest
+
+import rigidlangevin as rl
+
+
+def water_like_body_system(n=3):
+    """n rigid three-site bodies (water-like geometry) with radii, no forces."""
+    system = mm.System()
+    integrator = rl.RigidLangevinIntegrator(300*unit.kelvin, 0.89*rl.centipoise, 2*unit.femtoseconds)
+    positions = []
+    for b in range(n):
+        first = system.getNumParticles()
+        for mass in (15.999, 1.008, 1.008):
+            system.addParticle(mass)
+        positions += [mm.Vec3(b, 0, 0), mm.Vec3(b+0.09572, 0, 0), mm.Vec3(b-0.024, 0.0927, 0)]
+        integrator.addRigidBody([first, first+1, first+2])
+        for p in range(first, first+3):
+            integrator.setParticleRadius(p, 0.1*unit.nanometer)
+    return system, integrator, positions
+
+
+def test_viscosity_units_and_avogadro():
+    # 0.89 cP is 535.97 amu/(nm ps): openmm.unit's own MD form of Pa*s lacks Avogadro's number.
+    i = rl.RigidLangevinIntegrator(300, 0.89*rl.centipoise, 0.002)
+    assert i.getViscosity().value_in_unit(rl.md_viscosity) == pytest.approx(535.97, rel=1e-4)
+    assert i.getViscosity().value_in_unit(rl.centipoise) == pytest.approx(0.89)
+    i.setViscosity(1*rl.poise)
+    assert i.getViscosity()._value == pytest.approx(60221.4076)
+    i.setViscosity(1e-3*unit.pascal*unit.second)
+    assert i.getViscosity()._value == pytest.approx(602.214076)
+    i.setViscosity(8.9e-22*unit.mole*unit.dalton/(unit.nanometer*unit.picosecond))
+    assert i.getViscosity()._value == pytest.approx(535.97, rel=1e-4)
+    i.setViscosity(123.0)
+    assert i.getViscosity()._value == 123.0
+    i.setViscosity(5.0*unit.dalton/(unit.nanometer*unit.picosecond))
+    assert i.getViscosity()._value == pytest.approx(5.0)
+    with pytest.raises(TypeError):
+        i.setViscosity(1*unit.nanometer)
+
+
+def test_quantities_in_and_out():
+    i = rl.RigidLangevinIntegrator(310*unit.kelvin, 100, 1.5*unit.femtoseconds)
+    assert i.getTemperature() == 310*unit.kelvin
+    assert i.getStepSize().value_in_unit(unit.femtoseconds) == pytest.approx(1.5)
+    i.setTemperature(20*unit.kelvin)
+    assert i.getTemperature() == 20*unit.kelvin
+    i.setParticleRadius(3, 2*unit.angstrom)
+    assert i.getParticleRadius(3).value_in_unit(unit.nanometer) == pytest.approx(0.2)
+    assert i.getParticleRadius(4) is None
+
+
+def test_bodies_and_tensors_from_numpy():
+    i = rl.RigidLangevinIntegrator(300, 100, 0.002)
+    assert i.addRigidBody(np.arange(3)) == 0
+    assert i.getRigidBodyParticles(0) == (0, 1, 2)
+    tensor = np.diag([1., 2, 3, 4, 5, 6])
+    i.setBodyResistance(0, tensor, mm.Vec3(1, 2, 3)*unit.angstrom)
+    matrix, origin = i.getBodyResistance(0)
+    assert np.array_equal(matrix, tensor)
+    assert origin.value_in_unit(unit.nanometer) == pytest.approx(mm.Vec3(0.1, 0.2, 0.3))
+    assert i.getNumRigidBodies() == 1
+    with pytest.raises(ValueError):
+        i.setBodyResistance(0, np.ones(5), (0, 0, 0))
+
+
+def test_errors_are_openmm_exceptions():
+    i = rl.RigidLangevinIntegrator(300, 100, 0.002)
+    i.addRigidBody([0, 1])
+    with pytest.raises(mm.OpenMMException, match='particle 1 is already in rigid body 0'):
+        i.addRigidBody([1, 2])
+    with pytest.raises(mm.OpenMMException, match='not symmetric'):
+        bad = np.eye(6)
+        bad[0, 1] = 1
+        i.setBodyResistance(0, bad, (0, 0, 0))
+    with pytest.raises(mm.OpenMMException, match='temperature'):
+        rl.RigidLangevinIntegrator(-1, 1, 0.002)
+
+
+def test_context_state_and_temperatures():
+    system, integrator, positions = water_like_body_system()
+    context = mm.Context(system, integrator, mm.Platform.getPlatformByName('Reference'))
+    context.setPositions(positions)
+    context.setVelocitiesToTemperature(300*unit.kelvin, 1)
+    integrator.step(10)
+    assert integrator.getNumDegreesOfFreedom() == 18
+    for t in (integrator.computeSystemTemperature(), integrator.computeTranslationalTemperature(), integrator.computeRotationalTemperature()):
+        assert unit.is_quantity(t) and t.unit == unit.kelvin and t._value > 0
+    assert rl.RigidLangevinIntegrator.isinstance(context.getIntegrator())
+    assert context.getIntegrator().getViscosity() == integrator.getViscosity()
+
+
+def test_xml_serializer_copy_and_pickle():
+    integrator = rl.RigidLangevinIntegrator(300, 536.0, 0.002)
+    integrator.setScheme(rl.RigidLangevinIntegrator.BAOAB)
+    integrator.addRigidBody([0, 1, 2])
+    integrator.setBodyResistance(0, np.diag([1., 1, 1, 2, 2, 2]), (0.1, 0, 0))
+    integrator.setParticleRadius(1, 0.12)
+    integrator.setRandomNumberSeed(9)
+    xml = mm.XmlSerializer.serialize(integrator)
+    assert 'RigidLangevinIntegrator' in xml
+    restored = rl.RigidLangevinIntegrator.cast(mm.XmlSerializer.deserialize(xml))
+    for other in (restored, copy.deepcopy(integrator), copy.copy(integrator), pickle.loads(pickle.dumps(integrator))):
+        assert isinstance(other, rl.RigidLangevinIntegrator)
+        assert mm.XmlSerializer.serialize(other) == xml
+        assert other.getScheme() == rl.RigidLangevinIntegrator.BAOAB
+    with pytest.raises(mm.OpenMMException, match='not a RigidLangevinIntegrator'):
+        rl.RigidLangevinIntegrator.cast(mm.VerletIntegrator(0.001))
+
+
+def test_resistance_tensor_values():
+    sphere = rl.ResistanceTensor.sphere(0.2)
+    m = sphere.getMatrix()
+    assert m.shape == (6, 6)
+    assert m[0, 0] == pytest.approx(6*np.pi*0.2)
+    assert m[5, 5] == pytest.approx(8*np.pi*0.2**3)
+    # About another point the coupling appears, and the centre of resistance is the sphere's centre.
+    moved = sphere.getMatrix(mm.Vec3(0.1, 0, 0))
+    assert abs(moved[1, 5]) > 0
+    explicit = rl.ResistanceTensor.explicit(moved, mm.Vec3(0.1, 0, 0))
+    assert explicit.getCenterOfResistance().value_in_unit(unit.nanometer) == pytest.approx(mm.Vec3(0, 0, 0), abs=1e-12)
