@@ -237,3 +237,44 @@ TEST(BodyKinds, MasslessSiteOffALinearBodyIsAnError) {
         EXPECT_NE(std::string::npos, message.find("particle 2"));
     }
 }
+
+TEST(BodyKinds, HydrodynamicRadiiFromLennardJones) {
+    // At zero temperature a constant force F drives a free particle to the terminal velocity
+    // F/(6 pi eta r). Particle 0 takes r = sigma/2 from its Lennard-Jones parameters, particle 1 the
+    // radius set explicitly, which overrides its sigma; particle 2 has epsilon = 0 (like water
+    // hydrogens with sigma = 1 nm) and so has no radius unless one is set.
+    System system;
+    NonbondedForce* nb = new NonbondedForce();
+    for (int i = 0; i < 3; i++) {
+        system.addParticle(18.0);
+        nb->addParticle(0.0, i == 2 ? 1.0 : 0.3, i == 2 ? 0.0 : 0.5);
+    }
+    system.addForce(nb);
+    CustomExternalForce* push = new CustomExternalForce("-2.5*x");
+    for (int i = 0; i < 3; i++)
+        push->addParticle(i);
+    system.addForce(push);
+    const double viscosity = 500.0;
+    RigidLangevinIntegrator integrator(0.0, viscosity, 0.002);
+    integrator.setParticleRadius(1, 0.2);
+    std::vector<Vec3> positions = {Vec3(0, 0, 0), Vec3(0, 3, 0), Vec3(0, 6, 0)};
+    try {
+        Context context(system, integrator, Platform::getPlatformByName("Reference"));
+        FAIL() << "particle 2 has no radius";
+    }
+    catch (const OpenMMException& e) {
+        EXPECT_NE(std::string::npos, std::string(e.what()).find("particle 2"));
+    }
+    integrator.setParticleRadius(2, 0.25);
+    Context context(system, integrator, Platform::getPlatformByName("Reference"));
+    context.setPositions(positions);
+    integrator.step(2000);
+    std::vector<Vec3> before = context.getState(State::Positions).getPositions();
+    integrator.step(1000);
+    std::vector<Vec3> after = context.getState(State::Positions).getPositions();
+    double radii[3] = {0.15, 0.2, 0.25};
+    for (int i = 0; i < 3; i++) {
+        double velocity = (after[i][0]-before[i][0])/(1000*0.002);
+        EXPECT_NEAR(2.5/(6*M_PI*viscosity*radii[i]), velocity, 1e-9) << "particle " << i;
+    }
+}
