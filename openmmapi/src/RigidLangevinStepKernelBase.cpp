@@ -1,0 +1,159 @@
+#include "internal/RigidLangevinStepKernelBase.h"
+#include "openmm/CMMotionRemover.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/internal/ContextImpl.h"
+#include <istream>
+#include <ostream>
+
+using namespace RigidLangevinPlugin;
+using namespace OpenMM;
+using std::vector;
+
+namespace {
+
+const int CheckpointVersion = 1;
+
+} // namespace
+
+RigidLangevinStepKernelBase::RigidLangevinStepKernelBase(std::string name, const Platform& platform) :
+        IntegrateRigidLangevinStepKernel(name, platform), removerFrequency(0), bodiesInitialized(false), particlesChanged(true),
+        ignoreStateChanges(false), positionsSet(false) {
+}
+
+void RigidLangevinStepKernelBase::initialize(const System& system, const RigidLangevinIntegrator& integrator) {
+    model.reset(new RigidBodyModel(system, integrator));
+    for (int i = 0; i < system.getNumForces(); i++) {
+        const CMMotionRemover* remover = dynamic_cast<const CMMotionRemover*>(&system.getForce(i));
+        if (remover != NULL)
+            removerFrequency = remover->getFrequency();
+    }
+}
+
+double RigidLangevinStepKernelBase::kineticEnergyTimeShift(const RigidLangevinIntegrator& integrator) {
+    bool onStep = (integrator.getViscosity() == 0 || integrator.getScheme() == RigidLangevinIntegrator::Original);
+    return onStep ? 0.5*integrator.getStepSize() : 0.0;
+}
+
+bool RigidLangevinStepKernelBase::kineticEnergyRequiresForce(const RigidLangevinIntegrator& integrator) const {
+    return kineticEnergyTimeShift(integrator) != 0;
+}
+
+void RigidLangevinStepKernelBase::stateChanged(ContextImpl& context, State::DataType changed) {
+    if (changed != State::Positions && changed != State::Velocities)
+        return;
+    if (changed == State::Positions)
+        positionsSet = true;
+    if (ignoreStateChanges) {
+        // ContextImpl::loadCheckpoint() reports positions, then velocities, as changed after the
+        // integrator restored its exact body states; the particles already match them.
+        if (changed == State::Velocities)
+            ignoreStateChanges = false;
+        return;
+    }
+    particlesChanged = true;
+}
+
+void RigidLangevinStepKernelBase::updateBodies(ContextImpl& context) {
+    if (!particlesChanged)
+        return;
+    if (!positionsSet)
+        throw OpenMMException("RigidLangevinIntegrator: the particle positions have not been set; rigid bodies take their shapes from them");
+    vector<Vec3> positions, velocities;
+    context.getPositions(positions);
+    context.getVelocities(velocities);
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    bool periodic = context.getSystem().usesPeriodicBoundaryConditions();
+    vector<BodyState> states = model->fitStates(positions, velocities, periodic ? box : NULL);
+    if (!bodiesInitialized) {
+        initializeBodies(context, *model);
+        bodiesInitialized = true;
+    }
+    uploadBodyStates(context, states);
+    context.computeVirtualSites();
+    particlesChanged = false;
+}
+
+void RigidLangevinStepKernelBase::updateCoefficients(ContextImpl& context, const RigidLangevinIntegrator& integrator) {
+    double parameters[4] = {integrator.getTemperature(), integrator.getViscosity(), integrator.getStepSize(), (double) integrator.getScheme()};
+    bool changed = coefficients.empty();
+    for (int i = 0; i < 4; i++)
+        changed |= (parameters[i] != coefficientParameters[i]);
+    if (!changed)
+        return;
+    vector<TypeStepCoefficients> newCoefficients = computeStepCoefficients(*model, integrator.getScheme(), parameters[0], parameters[1], parameters[2]);
+    if (integrator.getScheme() == RigidLangevinIntegrator::Original)
+        checkOriginalSchemeStability(*model, newCoefficients, parameters[2]);
+    coefficients = newCoefficients;
+    uploadCoefficients(context, coefficients);
+    for (int i = 0; i < 4; i++)
+        coefficientParameters[i] = parameters[i];
+}
+
+void RigidLangevinStepKernelBase::execute(ContextImpl& context, const RigidLangevinIntegrator& integrator) {
+    updateBodies(context);
+    updateCoefficients(context, integrator);
+    // A CMMotionRemover acts on the particle velocities before the step, on the same steps as here.
+    bool removeMotion = (removerFrequency > 0 && context.getStepCount()%removerFrequency == 0);
+    takeStep(context, integrator, removeMotion);
+}
+
+void RigidLangevinStepKernelBase::computeKineticEnergies(ContextImpl& context, const RigidLangevinIntegrator& integrator,
+        double& translational, double& rotational, double& centerOfMass) {
+    updateBodies(context);
+    Vec3 momentum;
+    computeBodyKineticEnergies(context, kineticEnergyTimeShift(integrator), translational, rotational, momentum);
+    double totalMass = model->getTotalMass();
+    centerOfMass = (totalMass > 0 ? 0.5*momentum.dot(momentum)/totalMass : 0.0);
+}
+
+const RigidBodyModel& RigidLangevinStepKernelBase::getModel(ContextImpl& context) {
+    updateBodies(context);
+    return *model;
+}
+
+void RigidLangevinStepKernelBase::getBodyStates(ContextImpl& context, vector<BodyState>& states) {
+    updateBodies(context);
+    downloadBodyStates(context, states);
+}
+
+void RigidLangevinStepKernelBase::setBodyStates(ContextImpl& context, const vector<BodyState>& states) {
+    updateBodies(context);
+    if ((int) states.size() != model->getNumBodies())
+        throw OpenMMException("RigidLangevinIntegrator: got states for "+std::to_string(states.size())+" bodies, but the integrator moves "+
+                std::to_string(model->getNumBodies())+" (rigid bodies and free particles)");
+    uploadBodyStates(context, states);
+    context.computeVirtualSites();
+}
+
+void RigidLangevinStepKernelBase::createCheckpoint(ContextImpl& context, std::ostream& stream) {
+    vector<BodyState> states;
+    getBodyStates(context, states);
+    stream.write((char*) &CheckpointVersion, sizeof(int));
+    model->writeTypes(stream);
+    int numBodies = states.size();
+    stream.write((char*) &numBodies, sizeof(int));
+    stream.write((char*) states.data(), numBodies*sizeof(BodyState));
+    createRandomCheckpoint(stream);
+}
+
+void RigidLangevinStepKernelBase::loadCheckpoint(ContextImpl& context, std::istream& stream) {
+    int version, numBodies;
+    stream.read((char*) &version, sizeof(int));
+    if (!stream || version != CheckpointVersion)
+        throw OpenMMException("RigidLangevinIntegrator: the checkpoint was written by an incompatible version of the plugin");
+    model->readTypes(stream);
+    stream.read((char*) &numBodies, sizeof(int));
+    if (!stream || numBodies != model->getNumBodies())
+        throw OpenMMException("RigidLangevinIntegrator: the checkpoint's rigid bodies do not match this System's");
+    vector<BodyState> states(numBodies);
+    stream.read((char*) states.data(), numBodies*sizeof(BodyState));
+    loadRandomCheckpoint(stream);
+    initializeBodies(context, *model);
+    bodiesInitialized = true;
+    uploadBodyStates(context, states);
+    coefficients.clear();
+    particlesChanged = false;
+    positionsSet = true;
+    ignoreStateChanges = true;
+}
