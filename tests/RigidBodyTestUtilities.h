@@ -3,17 +3,21 @@
 
 /*
  * Helpers shared by the C++ tests: systems of standard bodies, the rigid motion of a body measured
- * independently from its particles, and statistics of correlated samples. Nothing here uses the
- * plugin's internals, so the tests check the integrator from the outside.
+ * independently from its particles, statistics of correlated samples, and the platforms to run
+ * on. Nothing here uses the plugin's internals (only the name of its kernel, to find the platforms
+ * that have it), so the tests check the integrator from the outside.
  */
 
 #include "RigidLangevinIntegrator.h"
+#include "RigidLangevinKernels.h"
 #include "openmm/Context.h"
 #include "openmm/Platform.h"
 #include "openmm/State.h"
 #include "openmm/System.h"
 #include <Eigen/Dense>
 #include <cmath>
+#include <map>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -236,12 +240,87 @@ inline void getParticles(OpenMM::Context& context, std::vector<Vec3>& pos, std::
     vel = state.getVelocities();
 }
 
-/** The platforms to run a test on: every one this machine has. */
+/**
+ * The platforms to run a test on: every one this machine has on which the plugin's kernels are
+ * registered (a platform whose plugin library could not be loaded is left out).
+ */
 inline std::vector<std::string> platformNames() {
     std::vector<std::string> names;
-    for (int i = 0; i < OpenMM::Platform::getNumPlatforms(); i++)
-        names.push_back(OpenMM::Platform::getPlatform(i).getName());
+    for (int i = 0; i < OpenMM::Platform::getNumPlatforms(); i++) {
+        OpenMM::Platform& platform = OpenMM::Platform::getPlatform(i);
+        if (platform.supportsKernels({RigidLangevinPlugin::IntegrateRigidLangevinStepKernel::Name()}))
+            names.push_back(platform.getName());
+    }
     return names;
+}
+
+/** Whether this machine has the named platform. */
+inline bool hasPlatform(const std::string& name) {
+    for (const std::string& n : platformNames())
+        if (n == name)
+            return true;
+    return false;
+}
+
+/** A platform and the precision to run it in. */
+struct PlatformConfig {
+    std::string platform;
+    std::string precision;  ///< "single", "mixed" or "double" (Reference and CPU: "double")
+    /** A name for test output and gtest parameters, e.g. "OpenCL_mixed". */
+    std::string name() const {
+        return platform+"_"+precision;
+    }
+    bool isGPU() const {
+        return platform == "OpenCL" || platform == "CUDA" || platform == "HIP";
+    }
+    std::map<std::string, std::string> properties() const {
+        std::map<std::string, std::string> p;
+        if (isGPU())
+            p["Precision"] = precision;
+        return p;
+    }
+    OpenMM::Platform& get() const {
+        return OpenMM::Platform::getPlatformByName(platform);
+    }
+};
+
+inline std::ostream& operator<<(std::ostream& out, const PlatformConfig& config) {
+    return out << config.name();
+}
+
+/**
+ * Every platform this machine has, GPU platforms in each of the given precisions (Reference and
+ * CPU compute in double precision).
+ */
+inline std::vector<PlatformConfig> platformConfigs(const std::vector<std::string>& gpuPrecisions = {"double"}) {
+    std::vector<PlatformConfig> configs;
+    for (const std::string& name : platformNames()) {
+        PlatformConfig c;
+        c.platform = name;
+        if (c.isGPU())
+            for (const std::string& precision : gpuPrecisions) {
+                c.precision = precision;
+                configs.push_back(c);
+            }
+        else {
+            c.precision = "double";
+            configs.push_back(c);
+        }
+    }
+    return configs;
+}
+
+/** A gtest parameter name for a PlatformConfig. */
+struct PlatformConfigName {
+    template <class ParamInfo>
+    std::string operator()(const ParamInfo& info) const {
+        return info.param.name();
+    }
+};
+
+/** A Context on a platform in its precision. */
+inline OpenMM::Context* createContext(OpenMM::System& system, OpenMM::Integrator& integrator, const PlatformConfig& config) {
+    return new OpenMM::Context(system, integrator, config.get(), config.properties());
 }
 
 } // namespace RigidBodyTest

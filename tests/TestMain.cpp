@@ -1,5 +1,6 @@
-// Test entry point: registers this build's Reference kernels (also used by the CPU platform) and
-// loads OpenMM's own platform libraries, so tests can run on every platform present.
+// Test entry point: loads OpenMM's own platform libraries, then this build's platform kernels of
+// the plugin (the Reference kernels are linked in; the others are plugins, loaded from the build
+// tree), so tests can run on every platform this machine has.
 #include "openmm/Platform.h"
 #include <gtest/gtest.h>
 #include <string>
@@ -16,6 +17,14 @@ int main(int argc, char** argv) {
         }
     }
     registerRigidLangevinReferenceKernelFactories();
+    for (const char* library : {"libRigidLangevinCPU.so", "libRigidLangevinOpenCL.so", "libRigidLangevinCUDA.so"}) {
+        try {
+            OpenMM::Platform::loadPluginLibrary(std::string(RIGIDLANGEVIN_BUILD_DIR)+"/"+library);
+        }
+        catch (...) {
+            // Not built here, or its OpenMM platform library could not be loaded.
+        }
+    }
     ::testing::InitGoogleTest(&argc, argv);
     return RUN_ALL_TESTS();
 }

@@ -4,11 +4,9 @@
  * that scales as h^2 (halving h quarters it) and does not drift, keep their rotation matrices
  * orthonormal to 1e-12 over 1e5 steps, and retrace their path when the momenta are reversed.
  */
-#include "RigidBodyTestUtilities.h"
-#include "openmm/NonbondedForce.h"
+#include "LennardJonesCluster.h"
 #include "openmm/serialization/SerializationNode.h"
 #include <gtest/gtest.h>
-#include <Eigen/Geometry>
 
 using namespace OpenMM;
 using namespace RigidLangevinPlugin;
@@ -16,37 +14,7 @@ using namespace RigidBodyTest;
 
 namespace {
 
-/** Eight asymmetric bodies on a cube, turned differently, interacting through Lennard-Jones. */
-struct Cluster {
-    System system;
-    std::vector<Vec3> positions;
-    Cluster() {
-        BodyShape shape = asymmetricBody();
-        NonbondedForce* nb = new NonbondedForce();
-        nb->setNonbondedMethod(NonbondedForce::NoCutoff);
-        int body = 0;
-        for (int i = 0; i < 2; i++)
-            for (int j = 0; j < 2; j++)
-                for (int k = 0; k < 2; k++, body++) {
-                    Eigen::Matrix3d r = Eigen::AngleAxisd(1.1*body, Eigen::Vector3d(1, -2, 3).normalized()).toRotationMatrix();
-                    for (int p = 0; p < 4; p++) {
-                        system.addParticle(shape.masses[p]);
-                        nb->addParticle(0.0, 0.25, 1.0);
-                        positions.push_back(toVec3(0.42*Eigen::Vector3d(i, j, k)+r*shape.reference[p]));
-                    }
-                    for (int p = 0; p < 4; p++)
-                        for (int q = p+1; q < 4; q++)
-                            nb->addException(4*body+p, 4*body+q, 0, 1, 0);
-                }
-        system.addForce(nb);
-    }
-    void addBodies(RigidLangevinIntegrator& integrator) const {
-        for (int b = 0; b < 8; b++)
-            integrator.addRigidBody({4*b, 4*b+1, 4*b+2, 4*b+3});
-        for (int p = 0; p < 32; p++)
-            integrator.setParticleRadius(p, 0.1);
-    }
-};
+typedef LennardJonesCluster Cluster;
 
 /** Standard deviation and drift (last quarter minus first quarter) of the total energy over 2 ps. */
 void energyError(RigidLangevinIntegrator::Scheme scheme, double h, double& deviation, double& drift) {

@@ -7,21 +7,31 @@
 using namespace RigidLangevinPlugin;
 using namespace OpenMM;
 
-extern "C" OPENMM_EXPORT void registerPlatforms() {
-}
+namespace {
 
-extern "C" OPENMM_EXPORT void registerKernelFactories() {
-    // The CPU platform derives from the Reference platform and shares its data, so it uses these
-    // kernels too.
+// Called through both entry points below. A plugin calls no exported function of its own: with
+// several plugins loaded, the dynamic linker could bind such a call to another plugin's.
+void registerFactories() {
+    // Only on the platform named "Reference": the CPU platform derives from ReferencePlatform, but
+    // it has its own, threaded kernel (platforms/cpu).
     for (int i = 0; i < Platform::getNumPlatforms(); i++) {
         Platform& platform = Platform::getPlatform(i);
-        if (dynamic_cast<ReferencePlatform*>(&platform) != NULL)
+        if (platform.getName() == "Reference")
             platform.registerKernelFactory(IntegrateRigidLangevinStepKernel::Name(), new ReferenceRigidLangevinKernelFactory());
     }
 }
 
+} // namespace
+
+extern "C" OPENMM_EXPORT void registerPlatforms() {
+}
+
+extern "C" OPENMM_EXPORT void registerKernelFactories() {
+    registerFactories();
+}
+
 extern "C" OPENMM_EXPORT void registerRigidLangevinReferenceKernelFactories() {
-    registerKernelFactories();
+    registerFactories();
 }
 
 KernelImpl* ReferenceRigidLangevinKernelFactory::createKernelImpl(std::string name, const Platform& platform, ContextImpl& context) const {

@@ -5,7 +5,7 @@
 
 namespace RigidLangevinPlugin {
 
-/** Creates the Reference platform's kernels of the plugin (used by the CPU platform too). */
+/** Creates the Reference platform's kernels of the plugin. */
 class ReferenceRigidLangevinKernelFactory : public OpenMM::KernelFactory {
 public:
     OpenMM::KernelImpl* createKernelImpl(std::string name, const OpenMM::Platform& platform, OpenMM::ContextImpl& context) const;

@@ -1,0 +1,53 @@
+#ifndef CPU_BODY_STATES_H_
+#define CPU_BODY_STATES_H_
+
+#include "internal/RigidBodyModel.h"
+#include "openmm/Vec3.h"
+#include <array>
+#include <vector>
+
+namespace RigidLangevinPlugin {
+
+/**
+ * The states of all bodies as a structure of arrays, one array per quantity, so that a thread
+ * sweeping a range of bodies reads each quantity contiguously. A body is loaded into a BodyState
+ * to be advanced by the shared equations of motion (BodyDynamics.h) and stored back.
+ */
+struct CpuBodyStates {
+    std::vector<OpenMM::Vec3> position, velocity, angularMomentum;
+    std::vector<std::array<double, 9> > rotation;  ///< Q row by row
+
+    void resize(int numBodies) {
+        position.resize(numBodies);
+        velocity.resize(numBodies);
+        angularMomentum.resize(numBodies);
+        rotation.resize(numBodies);
+    }
+    int size() const {
+        return position.size();
+    }
+    BodyState load(int body) const {
+        BodyState s;
+        s.position = position[body];
+        s.velocity = velocity[body];
+        s.angularMomentum = angularMomentum[body];
+        const std::array<double, 9>& q = rotation[body];
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                s.rotation[i][j] = q[3*i+j];
+        return s;
+    }
+    void store(int body, const BodyState& s) {
+        position[body] = s.position;
+        velocity[body] = s.velocity;
+        angularMomentum[body] = s.angularMomentum;
+        std::array<double, 9>& q = rotation[body];
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                q[3*i+j] = s.rotation[i][j];
+    }
+};
+
+} // namespace RigidLangevinPlugin
+
+#endif /*CPU_BODY_STATES_H_*/
