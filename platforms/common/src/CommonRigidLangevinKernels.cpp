@@ -1,0 +1,460 @@
+#include "CommonRigidLangevinKernels.h"
+#include "CommonRigidLangevinKernelSources.h"
+#include "internal/BodyDynamics.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/common/ContextSelector.h"
+#include "openmm/common/IntegrationUtilities.h"
+#include "openmm/internal/ContextImpl.h"
+#include <algorithm>
+#include <map>
+#include <numeric>
+
+using namespace RigidLangevinPlugin;
+using namespace OpenMM;
+using std::string;
+using std::vector;
+
+namespace {
+
+/** Arguments of the step kernels set at every step (the others are fixed). */
+enum StepArgument {
+    StepFirst = 0, StepLast = 1, StepScheme = 2, StepFrictionless = 3, StepSize = 4, StepRemoveMotion = 5, StepRenormalize = 6,
+    StepRandomIndex = 19, StepRandomPerBody = 20
+};
+
+/** Set a kernel argument of the device's "mixed" type. */
+void setMixedArg(ComputeKernel& kernel, int index, double value, bool mixedIsDouble) {
+    if (mixedIsDouble)
+        kernel->setArg(index, value);
+    else
+        kernel->setArg(index, (float) value);
+}
+
+void setMixed4Arg(ComputeKernel& kernel, int index, const Vec3& v, bool mixedIsDouble) {
+    if (mixedIsDouble)
+        kernel->setArg(index, mm_double4(v[0], v[1], v[2], 0));
+    else
+        kernel->setArg(index, mm_float4((float) v[0], (float) v[1], (float) v[2], 0));
+}
+
+/** Initialize an array, or give it a new size if it exists (bodies can be set up twice: checkpoints). */
+template <class T>
+void initializeArray(ComputeArray& array, ComputeContext& cc, int size, const string& name) {
+    size = std::max(size, 1);
+    if (!array.isInitialized())
+        array.initialize<T>(cc, size, name);
+    else if ((int) array.getSize() != size)
+        array.resize(size);
+}
+
+} // namespace
+
+/**
+ * Told by the ComputeContext whenever it has reordered atoms (and when it restores a checkpoint),
+ * so that bodies find their particles where they are now.
+ */
+class CommonIntegrateRigidLangevinStepKernel::AtomOrderListener : public ComputeContext::ReorderListener {
+public:
+    explicit AtomOrderListener(CommonIntegrateRigidLangevinStepKernel& owner) : owner(owner) {
+    }
+    void execute() {
+        owner.updateAtomSlots();
+    }
+private:
+    CommonIntegrateRigidLangevinStepKernel& owner;
+};
+
+CommonIntegrateRigidLangevinStepKernel::CommonIntegrateRigidLangevinStepKernel(string name, const Platform& platform, ComputeContext& cc) :
+        RigidLangevinStepKernelBase(name, platform), cc(cc), mixedIsDouble(false), hasSetArguments(false), numBodies(0), numEntries(0),
+        numReductionGroups(1) {
+}
+
+void CommonIntegrateRigidLangevinStepKernel::initialize(const System& system, const RigidLangevinIntegrator& integrator) {
+    RigidLangevinStepKernelBase::initialize(system, integrator);
+    cc.initializeContexts();
+    ContextSelector selector(cc);
+    mixedIsDouble = (cc.getUseDoublePrecision() || cc.getUseMixedPrecision());
+    cc.getIntegrationUtilities().initRandomNumberGenerator((unsigned int) integrator.getRandomNumberSeed());
+    std::map<string, string> defines;
+    defines["PADDED_NUM_ATOMS"] = cc.intToString(cc.getPaddedNumAtoms());
+    defines["TYPE_STRIDE"] = cc.intToString(TypeStride);
+    defines["TP_TO_MODES"] = cc.intToString(ToModes);
+    defines["TP_FROM_MODES"] = cc.intToString(FromModes);
+    defines["TP_MODES"] = cc.intToString(Modes);
+    defines["TP_DRIVE"] = cc.intToString(DriveFraction);
+    defines["TP_MASS"] = cc.intToString(MassAndInertia);
+    defines["TP_FRICTION"] = cc.intToString(Friction);
+    defines["TP_RANDOM_FORCE"] = cc.intToString(RandomForce);
+    defines["TP_INVERSE_MASS"] = cc.intToString(InverseMass);
+    defines["REDUCTION_GROUP_SIZE"] = cc.intToString(ReductionGroupSize);
+    defines["ORIGINAL_MAX_ITERATIONS"] = cc.intToString(BodyDynamics::OriginalSchemeMaxIterations);
+    defines["ORIGINAL_TOLERANCE"] = cc.doubleToString(BodyDynamics::OriginalSchemeTolerance, true);
+    ComputeProgram program = cc.compileProgram(CommonRigidLangevinKernelSources::rigidBodyMath+CommonRigidLangevinKernelSources::rigidBodyAtoms+
+            CommonRigidLangevinKernelSources::rigidBodyStep+CommonRigidLangevinKernelSources::rigidBodyReductions, defines);
+    stepKernels[(int) FrictionClass::Scalar] = program->createKernel("stepScalarBodies");
+    stepKernels[(int) FrictionClass::Diagonal] = program->createKernel("stepDiagonalBodies");
+    stepKernels[(int) FrictionClass::Coupled] = program->createKernel("stepCoupledBodies");
+    placeKernel = program->createKernel("placeBodyAtoms");
+    centerOfMassKernel = program->createKernel("computeCenterOfMassVelocity");
+    kineticEnergyKernel = program->createKernel("computeBodyKineticEnergies");
+    cc.addReorderListener(new AtomOrderListener(*this));
+}
+
+void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& context, const RigidBodyModel& model) {
+    ContextSelector selector(cc);
+    numBodies = model.getNumBodies();
+
+    // Kernel order: by friction class, then type, so each class is one range and one kernel.
+    bodyOrder.resize(numBodies);
+    std::iota(bodyOrder.begin(), bodyOrder.end(), 0);
+    auto key = [&] (int body) {
+        int type = model.getBodyType(body);
+        return std::make_pair((int) model.getType(type).frictionClass, type);
+    };
+    std::stable_sort(bodyOrder.begin(), bodyOrder.end(), [&] (int a, int b) {return key(a) < key(b);});
+    for (int c = 0; c <= 3; c++)
+        classStart[c] = 0;
+    for (int body : bodyOrder)
+        classStart[(int) model.getType(model.getBodyType(body)).frictionClass+1]++;
+    for (int c = 1; c <= 3; c++)
+        classStart[c] += classStart[c-1];
+
+    // Body particles, contiguous per body in kernel order.
+    vector<int> types(numBodies), atomStart(numBodies+1), entryBody;
+    entryParticle.clear();
+    vector<mm_double4> coords;
+    for (int k = 0; k < numBodies; k++) {
+        int body = bodyOrder[k];
+        types[k] = model.getBodyType(body);
+        atomStart[k] = entryParticle.size();
+        const vector<int>& particles = model.getBodyParticles(body);
+        const BodyType& type = model.getType(types[k]);
+        for (int i = 0; i < (int) particles.size(); i++) {
+            entryParticle.push_back(particles[i]);
+            entryBody.push_back(k);
+            coords.push_back(mm_double4(type.coords[i][0], type.coords[i][1], type.coords[i][2], 0));
+        }
+    }
+    numEntries = entryParticle.size();
+    atomStart[numBodies] = numEntries;
+    numReductionGroups = std::max(1, std::min(cc.getNumThreadBlocks(), (numBodies+ReductionGroupSize-1)/ReductionGroupSize));
+
+    if (mixedIsDouble) {
+        initializeArray<mm_double4>(bodyPosition, cc, numBodies, "rigidBodyPosition");
+        initializeArray<mm_double4>(bodyVelocity, cc, numBodies, "rigidBodyVelocity");
+        initializeArray<mm_double4>(bodyAngularMomentum, cc, numBodies, "rigidBodyAngularMomentum");
+        initializeArray<mm_double4>(bodyRotation, cc, 3*numBodies, "rigidBodyRotation");
+        initializeArray<mm_double4>(atomCoords, cc, numEntries, "rigidBodyAtomCoords");
+        initializeArray<double>(typeParams, cc, TypeStride*model.getNumTypes(), "rigidBodyTypeParams");
+        initializeArray<mm_double4>(centerOfMassVelocity, cc, 1, "rigidBodyCenterOfMassVelocity");
+        initializeArray<mm_double4>(kineticEnergies, cc, 2*numReductionGroups, "rigidBodyKineticEnergies");
+    }
+    else {
+        initializeArray<mm_float4>(bodyPosition, cc, numBodies, "rigidBodyPosition");
+        initializeArray<mm_float4>(bodyVelocity, cc, numBodies, "rigidBodyVelocity");
+        initializeArray<mm_float4>(bodyAngularMomentum, cc, numBodies, "rigidBodyAngularMomentum");
+        initializeArray<mm_float4>(bodyRotation, cc, 3*numBodies, "rigidBodyRotation");
+        initializeArray<mm_float4>(atomCoords, cc, numEntries, "rigidBodyAtomCoords");
+        initializeArray<float>(typeParams, cc, TypeStride*model.getNumTypes(), "rigidBodyTypeParams");
+        initializeArray<mm_float4>(centerOfMassVelocity, cc, 1, "rigidBodyCenterOfMassVelocity");
+        initializeArray<mm_float4>(kineticEnergies, cc, 2*numReductionGroups, "rigidBodyKineticEnergies");
+    }
+    initializeArray<int>(bodyType, cc, numBodies, "rigidBodyType");
+    initializeArray<int>(bodyAtomStart, cc, numBodies+1, "rigidBodyAtomStart");
+    initializeArray<int>(atomBody, cc, numEntries, "rigidBodyAtomBody");
+    initializeArray<int>(atomSlot, cc, numEntries, "rigidBodyAtomSlot");
+    initializeArray<mm_int4>(atomCellOffset, cc, numEntries, "rigidBodyAtomCellOffset");
+    initializeArray<mm_int4>(typeInfo, cc, model.getNumTypes(), "rigidBodyTypeInfo");
+    if (numBodies > 0) {
+        bodyType.upload(types);
+        bodyAtomStart.upload(atomStart);
+    }
+    if (numEntries > 0) {
+        atomBody.upload(entryBody);
+        atomCoords.upload(coords, true);
+    }
+
+    // Mass properties now (placing particles and kinetic energies need them); step coefficients
+    // arrive with uploadCoefficients().
+    hostTypeParams.assign(TypeStride*std::max(1, model.getNumTypes()), 0.0);
+    hostTypeInfo.assign(std::max(1, model.getNumTypes()), mm_int4(0, 0, 0, 0));
+    for (int t = 0; t < model.getNumTypes(); t++) {
+        const BodyType& type = model.getType(t);
+        double* p = &hostTypeParams[TypeStride*t];
+        p[MassAndInertia] = type.mass;
+        for (int k = 0; k < 3; k++)
+            p[MassAndInertia+1+k] = type.inertia[k];
+        hostTypeInfo[t] = mm_int4(type.getNumDegreesOfFreedom(), type.numRotations, 0, (int) type.frictionClass);
+    }
+    uploadTypeParameters();
+    updateAtomSlots();
+    setKernelArguments();
+}
+
+void CommonIntegrateRigidLangevinStepKernel::uploadTypeParameters() {
+    typeParams.upload(hostTypeParams, true);
+    typeInfo.upload(hostTypeInfo);
+}
+
+void CommonIntegrateRigidLangevinStepKernel::updateAtomSlots() {
+    if (entryParticle.empty())
+        return;
+    ContextSelector selector(cc);
+    const vector<int>& order = cc.getAtomIndex();
+    vector<int> slotOfParticle(order.size());
+    for (int slot = 0; slot < (int) order.size(); slot++)
+        slotOfParticle[order[slot]] = slot;
+    const vector<mm_int4>& cellOffsets = cc.getPosCellOffsets();
+    vector<int> slots(numEntries);
+    vector<mm_int4> cells(numEntries);
+    for (int e = 0; e < numEntries; e++) {
+        slots[e] = slotOfParticle[entryParticle[e]];
+        cells[e] = cellOffsets[slots[e]];
+    }
+    atomSlot.upload(slots);
+    atomCellOffset.upload(cells);
+}
+
+void CommonIntegrateRigidLangevinStepKernel::setKernelArguments() {
+    if (hasSetArguments)
+        return;
+    hasSetArguments = true;
+    for (ComputeKernel& kernel : stepKernels) {
+        for (int i = 0; i < 7; i++)
+            kernel->addArg();
+        kernel->addArg(bodyPosition);
+        kernel->addArg(bodyVelocity);
+        kernel->addArg(bodyAngularMomentum);
+        kernel->addArg(bodyRotation);
+        kernel->addArg(bodyType);
+        kernel->addArg(bodyAtomStart);
+        kernel->addArg(atomSlot);
+        kernel->addArg(atomCoords);
+        kernel->addArg(cc.getLongForceBuffer());
+        kernel->addArg(typeParams);
+        kernel->addArg(typeInfo);
+        kernel->addArg(cc.getIntegrationUtilities().getRandom());
+        kernel->addArg();  // random index
+        kernel->addArg();  // random numbers per body
+        kernel->addArg(centerOfMassVelocity);
+    }
+    placeKernel->addArg(numEntries);
+    placeKernel->addArg(atomBody);
+    placeKernel->addArg(atomSlot);
+    placeKernel->addArg(atomCoords);
+    placeKernel->addArg(atomCellOffset);
+    placeKernel->addArg(bodyPosition);
+    placeKernel->addArg(bodyVelocity);
+    placeKernel->addArg(bodyAngularMomentum);
+    placeKernel->addArg(bodyRotation);
+    placeKernel->addArg(bodyType);
+    placeKernel->addArg(typeParams);
+    placeKernel->addArg(typeInfo);
+    placeKernel->addArg(cc.getPosq());
+    // Written only in mixed precision; posq stands in for it otherwise.
+    placeKernel->addArg(cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq());
+    placeKernel->addArg(cc.getVelm());
+    for (int i = 0; i < 3; i++)
+        placeKernel->addArg();  // periodic box vectors
+    centerOfMassKernel->addArg(numBodies);
+    centerOfMassKernel->addArg();  // inverse total mass
+    centerOfMassKernel->addArg(bodyVelocity);
+    centerOfMassKernel->addArg(bodyType);
+    centerOfMassKernel->addArg(typeParams);
+    centerOfMassKernel->addArg(centerOfMassVelocity);
+    kineticEnergyKernel->addArg(numBodies);
+    kineticEnergyKernel->addArg();  // time shift
+    kineticEnergyKernel->addArg(bodyVelocity);
+    kineticEnergyKernel->addArg(bodyAngularMomentum);
+    kineticEnergyKernel->addArg(bodyRotation);
+    kineticEnergyKernel->addArg(bodyType);
+    kineticEnergyKernel->addArg(bodyAtomStart);
+    kineticEnergyKernel->addArg(atomSlot);
+    kineticEnergyKernel->addArg(atomCoords);
+    kineticEnergyKernel->addArg(cc.getLongForceBuffer());
+    kineticEnergyKernel->addArg(typeParams);
+    kineticEnergyKernel->addArg(typeInfo);
+    kineticEnergyKernel->addArg(kineticEnergies);
+}
+
+void CommonIntegrateRigidLangevinStepKernel::placeAtoms() {
+    if (numEntries == 0)
+        return;
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    for (int i = 0; i < 3; i++)
+        setMixed4Arg(placeKernel, 15+i, box[i], mixedIsDouble);
+    placeKernel->execute(numEntries);
+}
+
+template <class Mixed, class Mixed4>
+void CommonIntegrateRigidLangevinStepKernel::uploadStates(const vector<BodyState>& states) {
+    vector<Mixed4> position(numBodies), velocity(numBodies), angularMomentum(numBodies), rotation(3*numBodies);
+    for (int k = 0; k < numBodies; k++) {
+        const BodyState& s = states[bodyOrder[k]];
+        position[k] = Mixed4((Mixed) s.position[0], (Mixed) s.position[1], (Mixed) s.position[2], 0);
+        velocity[k] = Mixed4((Mixed) s.velocity[0], (Mixed) s.velocity[1], (Mixed) s.velocity[2], 0);
+        angularMomentum[k] = Mixed4((Mixed) s.angularMomentum[0], (Mixed) s.angularMomentum[1], (Mixed) s.angularMomentum[2], 0);
+        for (int i = 0; i < 3; i++)
+            rotation[3*k+i] = Mixed4((Mixed) s.rotation[i][0], (Mixed) s.rotation[i][1], (Mixed) s.rotation[i][2], 0);
+    }
+    bodyPosition.upload(position);
+    bodyVelocity.upload(velocity);
+    bodyAngularMomentum.upload(angularMomentum);
+    bodyRotation.upload(rotation);
+}
+
+template <class Mixed, class Mixed4>
+void CommonIntegrateRigidLangevinStepKernel::downloadStates(vector<BodyState>& states) {
+    vector<Mixed4> position, velocity, angularMomentum, rotation;
+    bodyPosition.download(position);
+    bodyVelocity.download(velocity);
+    bodyAngularMomentum.download(angularMomentum);
+    bodyRotation.download(rotation);
+    states.resize(numBodies);
+    for (int k = 0; k < numBodies; k++) {
+        BodyState& s = states[bodyOrder[k]];
+        s.position = Vec3(position[k].x, position[k].y, position[k].z);
+        s.velocity = Vec3(velocity[k].x, velocity[k].y, velocity[k].z);
+        s.angularMomentum = Vec3(angularMomentum[k].x, angularMomentum[k].y, angularMomentum[k].z);
+        for (int i = 0; i < 3; i++) {
+            const Mixed4& row = rotation[3*k+i];
+            s.rotation[i][0] = row.x;
+            s.rotation[i][1] = row.y;
+            s.rotation[i][2] = row.z;
+        }
+    }
+}
+
+void CommonIntegrateRigidLangevinStepKernel::uploadBodyStates(ContextImpl& context, const vector<BodyState>& states) {
+    if (numBodies == 0)
+        return;
+    ContextSelector selector(cc);
+    if (mixedIsDouble)
+        uploadStates<double, mm_double4>(states);
+    else
+        uploadStates<float, mm_float4>(states);
+    // Setting positions may have changed the cell offsets without reordering atoms.
+    updateAtomSlots();
+    placeAtoms();
+}
+
+void CommonIntegrateRigidLangevinStepKernel::downloadBodyStates(ContextImpl& context, vector<BodyState>& states) {
+    if (numBodies == 0) {
+        states.clear();
+        return;
+    }
+    ContextSelector selector(cc);
+    if (mixedIsDouble)
+        downloadStates<double, mm_double4>(states);
+    else
+        downloadStates<float, mm_float4>(states);
+}
+
+void CommonIntegrateRigidLangevinStepKernel::uploadCoefficients(ContextImpl& context, const vector<TypeStepCoefficients>& coefficients) {
+    ContextSelector selector(cc);
+    for (int t = 0; t < (int) coefficients.size(); t++) {
+        const TypeStepCoefficients& c = coefficients[t];
+        double* p = &hostTypeParams[TypeStride*t];
+        for (int i = 0; i < 6; i++)
+            for (int j = 0; j < 6; j++) {
+                p[ToModes+6*i+j] = c.toModes(i, j);
+                p[FromModes+6*i+j] = c.fromModes(i, j);
+                p[Friction+6*i+j] = c.friction(i, j);
+                p[RandomForce+6*i+j] = c.randomForce(i, j);
+            }
+        for (int i = 0; i < 6; i++) {
+            const ModeCoefficients& m = c.modes[i];
+            double values[5] = {m.decay, m.drift, m.noiseVelocity, m.noiseCross, m.noiseDisplacement};
+            for (int v = 0; v < 5; v++)
+                p[Modes+5*i+v] = values[v];
+            p[DriveFraction+i] = c.driveFraction[i];
+            p[InverseMass+i] = c.inverseMass[i];
+        }
+        hostTypeInfo[t].z = (c.halfSteps ? 1 : 0);
+    }
+    uploadTypeParameters();
+}
+
+int CommonIntegrateRigidLangevinStepKernel::randomFloat4PerBody(int frictionClass, RigidLangevinIntegrator::Scheme scheme, bool frictionless) {
+    if (frictionless)
+        return 0;
+    bool scalar = (frictionClass == (int) FrictionClass::Scalar);
+    if (scheme == RigidLangevinIntegrator::ExactFlow)
+        return (scalar ? 2 : 6);  // 2 per coordinate (3 for free particles), 4 for the two halves of rotating bodies
+    return (scalar ? 1 : 2);      // 1 per coordinate
+}
+
+void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, const RigidLangevinIntegrator& integrator, bool removeMotion) {
+    ContextSelector selector(cc);
+    IntegrationUtilities& integration = cc.getIntegrationUtilities();
+    const double h = integrator.getStepSize();
+    const RigidLangevinIntegrator::Scheme scheme = integrator.getScheme();
+    const bool frictionless = (integrator.getViscosity() == 0);
+    if (numBodies > 0) {
+        if (removeMotion) {
+            setMixedArg(centerOfMassKernel, 1, 1.0/model->getTotalMass(), mixedIsDouble);
+            centerOfMassKernel->execute(ReductionGroupSize, ReductionGroupSize);
+        }
+        int numRandom = 0;
+        for (int c = 0; c < 3; c++)
+            numRandom += randomFloat4PerBody(c, scheme, frictionless)*(classStart[c+1]-classStart[c]);
+        int randomIndex = (numRandom > 0 ? integration.prepareRandomNumbers(numRandom) : 0);
+        bool renormalize = (!mixedIsDouble && cc.getStepCount()%OrthonormalizationInterval == 0);
+        for (int c = 0; c < 3; c++) {
+            int count = classStart[c+1]-classStart[c];
+            if (count == 0)
+                continue;
+            int perBody = randomFloat4PerBody(c, scheme, frictionless);
+            ComputeKernel& kernel = stepKernels[c];
+            kernel->setArg(StepFirst, classStart[c]);
+            kernel->setArg(StepLast, classStart[c+1]);
+            kernel->setArg(StepScheme, (int) scheme);
+            kernel->setArg(StepFrictionless, frictionless ? 1 : 0);
+            setMixedArg(kernel, StepSize, h, mixedIsDouble);
+            kernel->setArg(StepRemoveMotion, removeMotion ? 1 : 0);
+            kernel->setArg(StepRenormalize, renormalize ? 1 : 0);
+            kernel->setArg(StepRandomIndex, randomIndex);
+            kernel->setArg(StepRandomPerBody, perBody);
+            kernel->execute(count);
+            randomIndex += perBody*count;
+        }
+        placeAtoms();
+    }
+    integration.computeVirtualSites();
+    cc.setTime(cc.getTime()+h);
+    cc.setStepCount(cc.getStepCount()+1);
+    cc.reorderAtoms();
+}
+
+void CommonIntegrateRigidLangevinStepKernel::computeBodyKineticEnergies(ContextImpl& context, double timeShift,
+        double& translational, double& rotational, Vec3& momentum) {
+    translational = rotational = 0;
+    momentum = Vec3();
+    if (numBodies == 0)
+        return;
+    ContextSelector selector(cc);
+    setMixedArg(kineticEnergyKernel, 1, timeShift, mixedIsDouble);
+    kineticEnergyKernel->execute(numReductionGroups*ReductionGroupSize, ReductionGroupSize);
+    vector<mm_double4> sums;
+    if (mixedIsDouble)
+        kineticEnergies.download(sums);
+    else {
+        vector<mm_float4> values;
+        kineticEnergies.download(values);
+        for (const mm_float4& v : values)
+            sums.push_back(mm_double4(v.x, v.y, v.z, v.w));
+    }
+    for (int g = 0; g < numReductionGroups; g++) {
+        translational += sums[2*g].x;
+        rotational += sums[2*g].y;
+        momentum += Vec3(sums[2*g+1].x, sums[2*g+1].y, sums[2*g+1].z);
+    }
+}
+
+void CommonIntegrateRigidLangevinStepKernel::createRandomCheckpoint(std::ostream& stream) {
+    // The random numbers are IntegrationUtilities', which the platform's own checkpoint holds.
+}
+
+void CommonIntegrateRigidLangevinStepKernel::loadRandomCheckpoint(std::istream& stream) {
+}

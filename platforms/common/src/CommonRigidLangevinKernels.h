@@ -1,0 +1,77 @@
+#ifndef COMMON_RIGID_LANGEVIN_KERNELS_H_
+#define COMMON_RIGID_LANGEVIN_KERNELS_H_
+
+#include "internal/RigidLangevinStepKernelBase.h"
+#include "openmm/common/ComputeArray.h"
+#include "openmm/common/ComputeContext.h"
+#include <vector>
+
+namespace RigidLangevinPlugin {
+
+/**
+ * The implementation of RigidLangevinIntegrator for OpenMM's common compute platforms (OpenCL,
+ * CUDA, HIP): one kernel source, compiled at runtime by the platform's ComputeContext.
+ *
+ * Each step runs one kernel per friction class present (Scalar, Diagonal, Coupled: bodies are
+ * sorted by class, then type, so that no class pays for another's work), one work item per body:
+ * gather force and torque from OpenMM's fixed-point force buffer, kick, flow. Then one work item
+ * per particle places the particles, and the platform computes virtual sites. Noise comes from
+ * OpenMM's IntegrationUtilities random numbers, so its state is part of the platform's checkpoint.
+ *
+ * Body states are kept in the platform's "mixed" precision (double in mixed and double precision).
+ * In single precision the rotation matrices are re-orthonormalised every OrthonormalizationInterval
+ * steps. When OpenMM reorders atoms (for its neighbour lists), a reorder listener updates where each
+ * body's particles are stored and their periodic cell offsets.
+ */
+class CommonIntegrateRigidLangevinStepKernel : public RigidLangevinStepKernelBase {
+public:
+    CommonIntegrateRigidLangevinStepKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc);
+    void initialize(const OpenMM::System& system, const RigidLangevinIntegrator& integrator);
+    /** Steps between re-orthonormalisations of the rotation matrices in single precision. */
+    static const int OrthonormalizationInterval = 10;
+    /** Work items per group of the reduction kernels. */
+    static const int ReductionGroupSize = 128;
+protected:
+    void initializeBodies(OpenMM::ContextImpl& context, const RigidBodyModel& model);
+    void uploadBodyStates(OpenMM::ContextImpl& context, const std::vector<BodyState>& states);
+    void downloadBodyStates(OpenMM::ContextImpl& context, std::vector<BodyState>& states);
+    void uploadCoefficients(OpenMM::ContextImpl& context, const std::vector<TypeStepCoefficients>& coefficients);
+    void takeStep(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, bool removeMotion);
+    void computeBodyKineticEnergies(OpenMM::ContextImpl& context, double timeShift, double& translational, double& rotational, OpenMM::Vec3& momentum);
+    void createRandomCheckpoint(std::ostream& stream);
+    void loadRandomCheckpoint(std::istream& stream);
+private:
+    class AtomOrderListener;
+    /** Offsets of the parameters of one body type in typeParams (the kernels get them as TP_* defines). */
+    enum TypeParameter {
+        ToModes = 0, FromModes = 36, Modes = 72, DriveFraction = 102, MassAndInertia = 108, Friction = 112,
+        RandomForce = 148, InverseMass = 184, TypeStride = 190
+    };
+    /** Find where each body particle is stored now, and its periodic cell offset. */
+    void updateAtomSlots();
+    void setKernelArguments();
+    void placeAtoms();
+    void uploadTypeParameters();
+    template <class Mixed, class Mixed4>
+    void uploadStates(const std::vector<BodyState>& states);
+    template <class Mixed, class Mixed4>
+    void downloadStates(std::vector<BodyState>& states);
+    /** Normal random numbers, in float4s, one body of a class takes per step. */
+    static int randomFloat4PerBody(int frictionClass, RigidLangevinIntegrator::Scheme scheme, bool frictionless);
+    OpenMM::ComputeContext& cc;
+    bool mixedIsDouble, hasSetArguments;
+    int numBodies, numEntries, numReductionGroups;
+    int classStart[4];                   // kernel body ranges of the Scalar, Diagonal and Coupled classes
+    std::vector<int> bodyOrder;          // kernel body index -> model body index
+    std::vector<int> entryParticle;      // body particle entry -> System particle index
+    std::vector<double> hostTypeParams;  // TypeStride values per type, in double precision
+    std::vector<OpenMM::mm_int4> hostTypeInfo;  // per type: dof, numRotations, halfSteps, friction class
+    OpenMM::ComputeArray bodyPosition, bodyVelocity, bodyAngularMomentum, bodyRotation, bodyType, bodyAtomStart;
+    OpenMM::ComputeArray atomBody, atomSlot, atomCoords, atomCellOffset;
+    OpenMM::ComputeArray typeParams, typeInfo, centerOfMassVelocity, kineticEnergies;
+    OpenMM::ComputeKernel stepKernels[3], placeKernel, centerOfMassKernel, kineticEnergyKernel;
+};
+
+} // namespace RigidLangevinPlugin
+
+#endif /*COMMON_RIGID_LANGEVIN_KERNELS_H_*/
