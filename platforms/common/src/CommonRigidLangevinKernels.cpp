@@ -1,6 +1,5 @@
 #include "CommonRigidLangevinKernels.h"
-#include "CommonRigidLangevinKernelSources.h"
-#include "internal/BodyDynamics.h"
+#include "RigidBodyKernelLayout.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ContextSelector.h"
 #include "openmm/common/IntegrationUtilities.h"
@@ -10,6 +9,7 @@
 #include <numeric>
 
 using namespace RigidLangevinPlugin;
+using namespace RigidLangevinPlugin::RigidBodyKernelLayout;
 using namespace OpenMM;
 using std::string;
 using std::vector;
@@ -75,22 +75,7 @@ void CommonIntegrateRigidLangevinStepKernel::initialize(const System& system, co
     ContextSelector selector(cc);
     mixedIsDouble = (cc.getUseDoublePrecision() || cc.getUseMixedPrecision());
     cc.getIntegrationUtilities().initRandomNumberGenerator((unsigned int) integrator.getRandomNumberSeed());
-    std::map<string, string> defines;
-    defines["PADDED_NUM_ATOMS"] = cc.intToString(cc.getPaddedNumAtoms());
-    defines["TYPE_STRIDE"] = cc.intToString(TypeStride);
-    defines["TP_TO_MODES"] = cc.intToString(ToModes);
-    defines["TP_FROM_MODES"] = cc.intToString(FromModes);
-    defines["TP_MODES"] = cc.intToString(Modes);
-    defines["TP_DRIVE"] = cc.intToString(DriveFraction);
-    defines["TP_MASS"] = cc.intToString(MassAndInertia);
-    defines["TP_FRICTION"] = cc.intToString(Friction);
-    defines["TP_RANDOM_FORCE"] = cc.intToString(RandomForce);
-    defines["TP_INVERSE_MASS"] = cc.intToString(InverseMass);
-    defines["REDUCTION_GROUP_SIZE"] = cc.intToString(ReductionGroupSize);
-    defines["ORIGINAL_MAX_ITERATIONS"] = cc.intToString(BodyDynamics::OriginalSchemeMaxIterations);
-    defines["ORIGINAL_TOLERANCE"] = cc.doubleToString(BodyDynamics::OriginalSchemeTolerance, true);
-    ComputeProgram program = cc.compileProgram(CommonRigidLangevinKernelSources::rigidBodyMath+CommonRigidLangevinKernelSources::rigidBodyAtoms+
-            CommonRigidLangevinKernelSources::rigidBodyStep+CommonRigidLangevinKernelSources::rigidBodyReductions, defines);
+    ComputeProgram program = cc.compileProgram(RigidBodyKernelLayout::source(), RigidBodyKernelLayout::defines(cc.getPaddedNumAtoms(), mixedIsDouble));
     stepKernels[(int) FrictionClass::Scalar] = program->createKernel("stepScalarBodies");
     stepKernels[(int) FrictionClass::Diagonal] = program->createKernel("stepDiagonalBodies");
     stepKernels[(int) FrictionClass::Coupled] = program->createKernel("stepCoupledBodies");
@@ -145,7 +130,7 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
         initializeArray<mm_double4>(bodyAngularMomentum, cc, numBodies, "rigidBodyAngularMomentum");
         initializeArray<mm_double4>(bodyRotation, cc, 3*numBodies, "rigidBodyRotation");
         initializeArray<mm_double4>(atomCoords, cc, numEntries, "rigidBodyAtomCoords");
-        initializeArray<double>(typeParams, cc, TypeStride*model.getNumTypes(), "rigidBodyTypeParams");
+        initializeArray<double>(typeParams, cc, TypeStride*std::max(1, model.getNumTypes()), "rigidBodyTypeParams");
         initializeArray<mm_double4>(centerOfMassVelocity, cc, 1, "rigidBodyCenterOfMassVelocity");
         initializeArray<mm_double4>(kineticEnergies, cc, 2*numReductionGroups, "rigidBodyKineticEnergies");
     }
@@ -155,7 +140,7 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
         initializeArray<mm_float4>(bodyAngularMomentum, cc, numBodies, "rigidBodyAngularMomentum");
         initializeArray<mm_float4>(bodyRotation, cc, 3*numBodies, "rigidBodyRotation");
         initializeArray<mm_float4>(atomCoords, cc, numEntries, "rigidBodyAtomCoords");
-        initializeArray<float>(typeParams, cc, TypeStride*model.getNumTypes(), "rigidBodyTypeParams");
+        initializeArray<float>(typeParams, cc, TypeStride*std::max(1, model.getNumTypes()), "rigidBodyTypeParams");
         initializeArray<mm_float4>(centerOfMassVelocity, cc, 1, "rigidBodyCenterOfMassVelocity");
         initializeArray<mm_float4>(kineticEnergies, cc, 2*numReductionGroups, "rigidBodyKineticEnergies");
     }

@@ -29,8 +29,6 @@ public:
     void initialize(const OpenMM::System& system, const RigidLangevinIntegrator& integrator);
     /** Steps between re-orthonormalisations of the rotation matrices in single precision. */
     static const int OrthonormalizationInterval = 10;
-    /** Work items per group of the reduction kernels. */
-    static const int ReductionGroupSize = 128;
 protected:
     void initializeBodies(OpenMM::ContextImpl& context, const RigidBodyModel& model);
     void uploadBodyStates(OpenMM::ContextImpl& context, const std::vector<BodyState>& states);
@@ -42,11 +40,6 @@ protected:
     void loadRandomCheckpoint(std::istream& stream);
 private:
     class AtomOrderListener;
-    /** Offsets of the parameters of one body type in typeParams (the kernels get them as TP_* defines). */
-    enum TypeParameter {
-        ToModes = 0, FromModes = 36, Modes = 72, DriveFraction = 102, MassAndInertia = 108, Friction = 112,
-        RandomForce = 148, InverseMass = 184, TypeStride = 190
-    };
     /** Find where each body particle is stored now, and its periodic cell offset. */
     void updateAtomSlots();
     void setKernelArguments();

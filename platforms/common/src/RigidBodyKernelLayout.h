@@ -1,0 +1,71 @@
+#ifndef RIGID_BODY_KERNEL_LAYOUT_H_
+#define RIGID_BODY_KERNEL_LAYOUT_H_
+
+#include "CommonRigidLangevinKernelSources.h"
+#include "internal/BodyDynamics.h"
+#include <map>
+#include <sstream>
+#include <string>
+
+namespace RigidLangevinPlugin {
+
+/**
+ * What the host code and the device kernels of the common platforms (src/kernels/*.cc) must agree
+ * on: the layout of the per-type parameters and the compile-time constants. Kept apart from the
+ * kernel class so that a test can compile the device source without a device (TestCudaKernelSources).
+ */
+namespace RigidBodyKernelLayout {
+
+/** Offsets of the parameters of one body type in the typeParams array, TypeStride values per type. */
+enum TypeParameter {
+    ToModes = 0,           ///< 36: TypeStepCoefficients::toModes, row-major
+    FromModes = 36,        ///< 36: fromModes
+    Modes = 72,            ///< 6 x 5: decay, drift, noiseVelocity, noiseCross, noiseDisplacement
+    DriveFraction = 102,   ///< 6: driveFraction per generalized coordinate
+    MassAndInertia = 108,  ///< 4: mass and the three principal moments
+    Friction = 112,        ///< 36: the Original scheme's friction
+    RandomForce = 148,     ///< 36: the Original scheme's random force factor
+    InverseMass = 184,     ///< 6: the Original scheme's inverse masses
+    TypeStride = 190
+};
+
+/** Work items per group of the reduction kernels. */
+const int ReductionGroupSize = 128;
+
+/** The device source: every kernel file, in the order they depend on each other. */
+inline std::string source() {
+    return CommonRigidLangevinKernelSources::rigidBodyMath+CommonRigidLangevinKernelSources::rigidBodyAtoms+
+           CommonRigidLangevinKernelSources::rigidBodyStep+CommonRigidLangevinKernelSources::rigidBodyReductions;
+}
+
+/**
+ * The preprocessor definitions the source needs.
+ *
+ * @param paddedNumAtoms  the context's padded number of atoms (the force buffer's stride)
+ * @param mixedIsDouble   whether the device's "mixed" type is double (literals get no f suffix)
+ */
+inline std::map<std::string, std::string> defines(int paddedNumAtoms, bool mixedIsDouble) {
+    std::map<std::string, std::string> d;
+    d["PADDED_NUM_ATOMS"] = std::to_string(paddedNumAtoms);
+    d["TYPE_STRIDE"] = std::to_string((int) TypeStride);
+    d["TP_TO_MODES"] = std::to_string((int) ToModes);
+    d["TP_FROM_MODES"] = std::to_string((int) FromModes);
+    d["TP_MODES"] = std::to_string((int) Modes);
+    d["TP_DRIVE"] = std::to_string((int) DriveFraction);
+    d["TP_MASS"] = std::to_string((int) MassAndInertia);
+    d["TP_FRICTION"] = std::to_string((int) Friction);
+    d["TP_RANDOM_FORCE"] = std::to_string((int) RandomForce);
+    d["TP_INVERSE_MASS"] = std::to_string((int) InverseMass);
+    d["REDUCTION_GROUP_SIZE"] = std::to_string(ReductionGroupSize);
+    d["ORIGINAL_MAX_ITERATIONS"] = std::to_string(BodyDynamics::OriginalSchemeMaxIterations);
+    std::ostringstream tolerance;
+    tolerance.precision(17);
+    tolerance << std::scientific << BodyDynamics::OriginalSchemeTolerance << (mixedIsDouble ? "" : "f");
+    d["ORIGINAL_TOLERANCE"] = tolerance.str();
+    return d;
+}
+
+} // namespace RigidBodyKernelLayout
+} // namespace RigidLangevinPlugin
+
+#endif /*RIGID_BODY_KERNEL_LAYOUT_H_*/
