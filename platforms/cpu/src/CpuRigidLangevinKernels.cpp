@@ -47,11 +47,17 @@ void CpuIntegrateRigidLangevinStepKernel::initialize(const System& system, const
     uint32_t seed = (integrator.getRandomNumberSeed() == 0 ? (uint32_t) osrngseed() : (uint32_t) integrator.getRandomNumberSeed());
     random.clear();
     for (int c = 0; c < numChunks; c++)
-        random.emplace_back(new GaussianRandom(chunkSeed(seed, c)));
+        random.emplace_back(new RandomStream(chunkSeed(seed, c)));
 }
 
 void CpuIntegrateRigidLangevinStepKernel::forEachChunk(const std::function<void (int, int, int)>& task) {
     int numChunks = chunkStart.size()-1;
+    if (chunkStart[numChunks] < MinBodiesForThreads || threads.getNumThreads() == 1) {
+        // Waking the threads would cost more than the work; the chunks (and so the results) are the same.
+        for (int c = 0; c < numChunks; c++)
+            task(c, chunkStart[c], chunkStart[c+1]);
+        return;
+    }
     threads.execute([&] (ThreadPool& pool, int threadIndex) {
         for (int c = threadIndex; c < numChunks; c += pool.getNumThreads())
             task(c, chunkStart[c], chunkStart[c+1]);
@@ -136,7 +142,7 @@ void CpuIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, const R
     const bool frictionless = (integrator.getViscosity() == 0);
     // One pass per body: forces, kick, flow and placing its particles, while the body is in cache.
     forEachChunk([&] (int chunk, int begin, int end) {
-        GaussianRandom& rng = *random[chunk];
+        GaussianRandom& rng = random[chunk]->random;
         for (int b = begin; b < end; b++) {
             int typeIndex = model->getBodyType(b);
             const BodyType& type = model->getType(typeIndex);
@@ -213,7 +219,7 @@ void CpuIntegrateRigidLangevinStepKernel::createRandomCheckpoint(std::ostream& s
     int numStreams = random.size();
     stream.write((char*) &numStreams, sizeof(int));
     for (auto& r : random)
-        r->createCheckpoint(stream);
+        r->random.createCheckpoint(stream);
 }
 
 void CpuIntegrateRigidLangevinStepKernel::loadRandomCheckpoint(std::istream& stream) {
@@ -223,5 +229,5 @@ void CpuIntegrateRigidLangevinStepKernel::loadRandomCheckpoint(std::istream& str
         throw OpenMMException("RigidLangevinIntegrator: the checkpoint was not written by the CPU platform for this System "
                               "(it has "+std::to_string(numStreams)+" random number streams, this context "+std::to_string(random.size())+")");
     for (auto& r : random)
-        r->loadCheckpoint(stream);
+        r->random.loadCheckpoint(stream);
 }

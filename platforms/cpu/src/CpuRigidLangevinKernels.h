@@ -28,6 +28,8 @@ public:
     void initialize(const OpenMM::System& system, const RigidLangevinIntegrator& integrator);
     /** The most chunks (and random streams) the bodies are split into. */
     static const int MaxChunks = 64;
+    /** Below this many bodies the chunks are run on the calling thread. */
+    static const int MinBodiesForThreads = 200;
 protected:
     void initializeBodies(OpenMM::ContextImpl& context, const RigidBodyModel& model);
     void uploadBodyStates(OpenMM::ContextImpl& context, const std::vector<BodyState>& states);
@@ -46,11 +48,20 @@ private:
     void placeParticles(int body, const BodyState& s);
     /** The total momentum of all bodies, summed chunk by chunk in a fixed order. */
     OpenMM::Vec3 computeMomentum();
+    /**
+     * One chunk's random numbers, alone in its cache lines: the generators' state changes with
+     * every number, and threads drawing from neighbouring ones would otherwise share lines.
+     */
+    struct alignas(64) RandomStream {
+        explicit RandomStream(int seed) : random(seed) {
+        }
+        GaussianRandom random;
+    };
     OpenMM::ReferencePlatform::PlatformData& data;
     OpenMM::ThreadPool& threads;
     CpuBodyStates bodies;
     std::vector<int> chunkStart;
-    std::vector<std::unique_ptr<GaussianRandom> > random;  // one per chunk
+    std::vector<std::unique_ptr<RandomStream> > random;  // one per chunk
 };
 
 } // namespace RigidLangevinPlugin
