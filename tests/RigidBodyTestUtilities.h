@@ -310,6 +310,17 @@ inline std::vector<PlatformConfig> platformConfigs(const std::vector<std::string
     return configs;
 }
 
+/**
+ * Whether the statistical tests run all their cases on a platform, or one representative case per
+ * test. Reference defines the physics and the GPU platforms reimplement it (their own kernels), so
+ * they run every case. The CPU platform runs the Reference's own per-body code (BodyDynamics.h);
+ * what it adds is its threading and its random number streams, which one case per test checks, and
+ * its per-step overhead (OpenMM's CPU platform: ~0.2 ms a step) would make every case slow.
+ */
+inline bool runsEveryStatisticalCase(const PlatformConfig& config) {
+    return config.platform != "CPU";
+}
+
 /** A gtest parameter name for a PlatformConfig. */
 struct PlatformConfigName {
     template <class ParamInfo>

@@ -36,7 +36,11 @@ double maxDistanceChange(const std::vector<Vec3>& a, const std::vector<Vec3>& b,
 
 } // namespace
 
-TEST(BodyKinds, LinearBodiesHaveFiveDegreesOfFreedomAndEquipartition) {
+class BodyKinds : public testing::TestWithParam<PlatformConfig> {
+};
+
+TEST_P(BodyKinds, LinearBodiesHaveFiveDegreesOfFreedomAndEquipartition) {
+    const PlatformConfig& platform = GetParam();
     // CO2-like: three particles on a line, plus a massless site on the axis.
     System system;
     RigidLangevinIntegrator integrator(300, 200.0, 0.002);
@@ -59,7 +63,7 @@ TEST(BodyKinds, LinearBodiesHaveFiveDegreesOfFreedomAndEquipartition) {
         for (int p = first; p < first+3; p++)
             integrator.setParticleRadius(p, 0.12);
     }
-    Context context(system, integrator, Platform::getPlatformByName("Reference"));
+    Context context(system, integrator, platform.get(), platform.properties());
     context.setPositions(positions);
     context.setVelocitiesToTemperature(300, 1);
     EXPECT_EQ(5*numBodies, integrator.getNumDegreesOfFreedom());
@@ -76,7 +80,8 @@ TEST(BodyKinds, LinearBodiesHaveFiveDegreesOfFreedomAndEquipartition) {
         EXPECT_LT(maxDistanceChange(positions, end, 4*b, 4), 1e-10);
 }
 
-TEST(BodyKinds, LinearBodiesConserveEnergyWithoutFriction) {
+TEST_P(BodyKinds, LinearBodiesConserveEnergyWithoutFriction) {
+    const PlatformConfig& platform = GetParam();
     // Two linear bodies interacting through Lennard-Jones: energy error of second order.
     double deviation[2];
     for (int run = 0; run < 2; run++) {
@@ -97,7 +102,7 @@ TEST(BodyKinds, LinearBodiesConserveEnergyWithoutFriction) {
                 for (int j = i+1; j < 3; j++)
                     nb->addException(3*b+i, 3*b+j, 0, 1, 0);
         }
-        Context context(system, integrator, Platform::getPlatformByName("Reference"));
+        Context context(system, integrator, platform.get(), platform.properties());
         context.setPositions(positions);
         context.setVelocitiesToTemperature(300, 2);
         Series energy;
@@ -116,7 +121,8 @@ TEST(BodyKinds, LinearBodiesConserveEnergyWithoutFriction) {
     EXPECT_LT(deviation[0], 0.01);
 }
 
-TEST(BodyKinds, SingleParticleBodyIsAFreeParticle) {
+TEST_P(BodyKinds, SingleParticleBodyIsAFreeParticle) {
+    const PlatformConfig& platform = GetParam();
     // The same particle as a one-particle body or as a free particle: 3 degrees of freedom and
     // the same trajectory from the same random numbers.
     std::vector<Vec3> result[2];
@@ -128,7 +134,7 @@ TEST(BodyKinds, SingleParticleBodyIsAFreeParticle) {
         integrator.setParticleRadius(0, 0.2);
         if (asBody)
             integrator.addRigidBody({0});
-        Context context(system, integrator, Platform::getPlatformByName("Reference"));
+        Context context(system, integrator, platform.get(), platform.properties());
         context.setPositions({Vec3(0.1, 0.2, 0.3)});
         context.setVelocities({Vec3(1, -1, 0.5)});
         EXPECT_EQ(3, integrator.getNumDegreesOfFreedom());
@@ -138,7 +144,8 @@ TEST(BodyKinds, SingleParticleBodyIsAFreeParticle) {
     EXPECT_EQ(result[0][0], result[1][0]);
 }
 
-TEST(BodyKinds, MasslessSiteCarriesForceAndTorque) {
+TEST_P(BodyKinds, MasslessSiteCarriesForceAndTorque) {
+    const PlatformConfig& platform = GetParam();
     // Three massive particles and a massless site off their plane; only the site feels an external
     // harmonic tether. Without friction the body must conserve energy (force and torque from the
     // site are right) and carry the site rigidly.
@@ -156,7 +163,7 @@ TEST(BodyKinds, MasslessSiteCarriesForceAndTorque) {
         for (int p = 0; p < 3; p++)
             integrator.setParticleRadius(p, 0.1);
         std::vector<Vec3> positions = {Vec3(0, 0, 0), Vec3(0.0957, 0, 0), Vec3(-0.024, 0.0927, 0), Vec3(0.02, 0.03, 0.04)};
-        Context context(system, integrator, Platform::getPlatformByName("Reference"));
+        Context context(system, integrator, platform.get(), platform.properties());
         context.setPositions(positions);
         context.setVelocitiesToTemperature(300, 4);
         EXPECT_EQ(6, integrator.getNumDegreesOfFreedom());
@@ -179,7 +186,8 @@ TEST(BodyKinds, MasslessSiteCarriesForceAndTorque) {
     EXPECT_NEAR(4.0, deviation[0]/deviation[1], 0.5);
 }
 
-TEST(BodyKinds, FreeParticlesMixedWithBodies) {
+TEST_P(BodyKinds, FreeParticlesMixedWithBodies) {
+    const PlatformConfig& platform = GetParam();
     // 100 asymmetric bodies and 200 free particles, no forces: both thermalise to the bath; a
     // massless free particle stays where it is.
     BodyShape shape = asymmetricBody();
@@ -203,7 +211,7 @@ TEST(BodyKinds, FreeParticlesMixedWithBodies) {
     }
     int ghost = system.addParticle(0.0);
     positions.push_back(Vec3(1, 2, 3));
-    Context context(system, integrator, Platform::getPlatformByName("Reference"));
+    Context context(system, integrator, platform.get(), platform.properties());
     context.setPositions(positions);
     context.setVelocitiesToTemperature(300, 6);
     EXPECT_EQ(100*6+200*3, integrator.getNumDegreesOfFreedom());
@@ -217,7 +225,8 @@ TEST(BodyKinds, FreeParticlesMixedWithBodies) {
     EXPECT_EQ(Vec3(1, 2, 3), context.getState(State::Positions).getPositions()[ghost]);
 }
 
-TEST(BodyKinds, MasslessSiteOffALinearBodyIsAnError) {
+TEST_P(BodyKinds, MasslessSiteOffALinearBodyIsAnError) {
+    const PlatformConfig& platform = GetParam();
     System system;
     for (double m : {16.0, 12.0, 0.0})
         system.addParticle(m);
@@ -225,7 +234,7 @@ TEST(BodyKinds, MasslessSiteOffALinearBodyIsAnError) {
     integrator.addRigidBody({0, 1, 2});
     integrator.setParticleRadius(0, 0.1);
     integrator.setParticleRadius(1, 0.1);
-    Context context(system, integrator, Platform::getPlatformByName("Reference"));
+    Context context(system, integrator, platform.get(), platform.properties());
     context.setPositions({Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0.05, 0.05, 0)});
     try {
         integrator.step(1);
@@ -238,7 +247,8 @@ TEST(BodyKinds, MasslessSiteOffALinearBodyIsAnError) {
     }
 }
 
-TEST(BodyKinds, HydrodynamicRadiiFromLennardJones) {
+TEST_P(BodyKinds, HydrodynamicRadiiFromLennardJones) {
+    const PlatformConfig& platform = GetParam();
     // At zero temperature a constant force F drives a free particle to the terminal velocity
     // F/(6 pi eta r). Particle 0 takes r = sigma/2 from its Lennard-Jones parameters, particle 1 the
     // radius set explicitly, which overrides its sigma; particle 2 has epsilon = 0 (like water
@@ -259,14 +269,14 @@ TEST(BodyKinds, HydrodynamicRadiiFromLennardJones) {
     integrator.setParticleRadius(1, 0.2);
     std::vector<Vec3> positions = {Vec3(0, 0, 0), Vec3(0, 3, 0), Vec3(0, 6, 0)};
     try {
-        Context context(system, integrator, Platform::getPlatformByName("Reference"));
+        Context context(system, integrator, platform.get(), platform.properties());
         FAIL() << "particle 2 has no radius";
     }
     catch (const OpenMMException& e) {
         EXPECT_NE(std::string::npos, std::string(e.what()).find("particle 2"));
     }
     integrator.setParticleRadius(2, 0.25);
-    Context context(system, integrator, Platform::getPlatformByName("Reference"));
+    Context context(system, integrator, platform.get(), platform.properties());
     context.setPositions(positions);
     integrator.step(2000);
     std::vector<Vec3> before = context.getState(State::Positions).getPositions();
@@ -278,3 +288,5 @@ TEST(BodyKinds, HydrodynamicRadiiFromLennardJones) {
         EXPECT_NEAR(2.5/(6*M_PI*viscosity*radii[i]), velocity, 1e-9) << "particle " << i;
     }
 }
+
+INSTANTIATE_TEST_SUITE_P(AllPlatforms, BodyKinds, testing::ValuesIn(platformConfigs()), PlatformConfigName());

@@ -26,7 +26,7 @@ namespace {
  * D_r/lambda_min (lambda_min the slowest velocity relaxation rate) is small. At fixed gamma h that
  * ratio is set by D_r h, so the low-friction case needs a small one (and a long run).
  */
-void checkCoupledDiffusion(double gammaH, double rotationPerStep, int numBodies, int numSamples) {
+void checkCoupledDiffusion(const PlatformConfig& platform, double gammaH, double rotationPerStep, int numBodies, int numSamples) {
     const double temperature = 300, kT = BOLTZ*temperature;
     BodyShape shape = asymmetricBody();
     Eigen::Matrix<double, 6, 6> xi = coupledTensor();
@@ -73,7 +73,7 @@ void checkCoupledDiffusion(double gammaH, double rotationPerStep, int numBodies,
         integrator.addRigidBody(particles);
         integrator.setBodyResistance(b, flatten(xi), toVec3(offset+Eigen::Vector3d(3.0*b, 0, 0)));
     }
-    Context context(system, integrator, Platform::getPlatformByName("Reference"));
+    Context context(system, integrator, platform.get(), platform.properties());
     context.setPositions(positions);
     context.setVelocitiesToTemperature(temperature, 8);
     std::vector<std::vector<Eigen::Vector3d> > centers;
@@ -128,7 +128,14 @@ void checkCoupledDiffusion(double gammaH, double rotationPerStep, int numBodies,
 
 } // namespace
 
-TEST(CoupledDiffusion, LongTimeDiffusionIsKTOverXi) {
-    checkCoupledDiffusion(0.1, 2e-4, 160, 4000);
-    checkCoupledDiffusion(100.0, 2e-3, 160, 4000);
+class CoupledDiffusion : public testing::TestWithParam<PlatformConfig> {
+};
+
+TEST_P(CoupledDiffusion, LongTimeDiffusionIsKTOverXi) {
+    const PlatformConfig& platform = GetParam();
+    if (runsEveryStatisticalCase(platform))
+        checkCoupledDiffusion(platform, 0.1, 2e-4, 160, 4000);
+    checkCoupledDiffusion(platform, 100.0, 2e-3, 160, 4000);
 }
+
+INSTANTIATE_TEST_SUITE_P(AllPlatforms, CoupledDiffusion, testing::ValuesIn(platformConfigs()), PlatformConfigName());

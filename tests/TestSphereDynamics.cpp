@@ -26,7 +26,7 @@ struct Trajectory {
     std::vector<std::vector<Vec3> > positions, velocities;
 };
 
-Trajectory runFreeParticles(RigidLangevinIntegrator::Scheme scheme, double gammaH, double mass, double radius, double h,
+Trajectory runFreeParticles(const PlatformConfig& platform, RigidLangevinIntegrator::Scheme scheme, double gammaH, double mass, double radius, double h,
                             int numParticles, int stride, int numSamples) {
     double viscosity = gammaH*mass/(6*M_PI*radius*h);
     System system;
@@ -39,7 +39,7 @@ Trajectory runFreeParticles(RigidLangevinIntegrator::Scheme scheme, double gamma
         integrator.setParticleRadius(i, radius);
         positions.push_back(Vec3(i, 0, 0));
     }
-    Context context(system, integrator, Platform::getPlatformByName("Reference"));
+    Context context(system, integrator, platform.get(), platform.properties());
     context.setPositions(positions);
     context.setVelocitiesToTemperature(Temperature, 7);
     Trajectory t;
@@ -74,6 +74,9 @@ void checkRelative(const Series& s, double exact, double tolerance, const std::s
     EXPECT_NEAR(exact, s.mean(), tolerance*std::abs(exact));
 }
 
+class SphereDynamics : public testing::TestWithParam<PlatformConfig> {
+};
+
 struct TranslationCase {
     double gammaH;
     int stride, numSamples;
@@ -82,7 +85,8 @@ struct TranslationCase {
 
 } // namespace
 
-TEST(SphereDynamics, TranslationExactFlow) {
+TEST_P(SphereDynamics, TranslationExactFlow) {
+    const PlatformConfig& platform = GetParam();
     const double mass = 18.0, radius = 0.15, h = 0.002, kT = BOLTZ*Temperature;
     const TranslationCase cases[] = {
         {0.01, 10, 1200, {5, 10}, {50, 100}},
@@ -90,10 +94,12 @@ TEST(SphereDynamics, TranslationExactFlow) {
         {100.0, 1, 1500, {1}, {5, 20}},
     };
     for (const TranslationCase& c : cases) {
+        if (c.gammaH != 1.0 && !runsEveryStatisticalCase(platform))
+            continue;
         SCOPED_TRACE("gamma h = "+std::to_string(c.gammaH));
         double gamma = c.gammaH/h;
         double diffusion = kT/(gamma*mass);
-        Trajectory t = runFreeParticles(RigidLangevinIntegrator::ExactFlow, c.gammaH, mass, radius, h, 4000, c.stride, c.numSamples);
+        Trajectory t = runFreeParticles(platform, RigidLangevinIntegrator::ExactFlow, c.gammaH, mass, radius, h, 4000, c.stride, c.numSamples);
         double norm = 3*kT/mass;
         checkRelative(correlate(t, 0, [&](int i, int j, int p) {return t.velocities[i][p].dot(t.velocities[j][p])/norm;}), 1.0, 0.02, "<v.v>/(3kT/m)");
         for (int lag : c.vacfLags) {
@@ -117,14 +123,17 @@ TEST(SphereDynamics, TranslationExactFlow) {
     }
 }
 
-TEST(SphereDynamics, TranslationBAOABHasItsKnownDiffusionBias) {
+TEST_P(SphereDynamics, TranslationBAOABHasItsKnownDiffusionBias) {
+    const PlatformConfig& platform = GetParam();
     // BAOAB without forces: x_{n+1} = x_n + (h/2)(v_n + v_{n+1}), v_{n+1} = e v_n + noise, e = exp(-gamma h),
     // so over N steps the displacement is (h/2) sum_k c_k v_k with c = (1, 2, ..., 2, 1) and
     // <v_k v_l> = (kT/m) e^|k-l|. Its long-time limit is 6 D t (gamma h/2) coth(gamma h/2).
     const double mass = 18.0, radius = 0.15, h = 0.002, kT = BOLTZ*Temperature;
     for (double gammaH : {1.0, 100.0}) {
+        if (gammaH != 1.0 && !runsEveryStatisticalCase(platform))
+            continue;
         SCOPED_TRACE("gamma h = "+std::to_string(gammaH));
-        Trajectory t = runFreeParticles(RigidLangevinIntegrator::BAOAB, gammaH, mass, radius, h, 4000, 1, 1500);
+        Trajectory t = runFreeParticles(platform, RigidLangevinIntegrator::BAOAB, gammaH, mass, radius, h, 4000, 1, 1500);
         double e = std::exp(-gammaH);
         auto exactMSD = [&](int lag) {
             double sum = 0;
@@ -157,7 +166,7 @@ namespace {
  * corrections of order epsilon^2. Checked: 1 - C(t) at a short lag (much stricter than C itself),
  * and optionally C(t) at a long lag.
  */
-void checkOrientation(double gammaH, double epsilon, int numBodies, int stride, int numSamples, int shortLag, int longLag) {
+void checkOrientation(const PlatformConfig& platform, double gammaH, double epsilon, int numBodies, int stride, int numSamples, int shortLag, int longLag) {
     const double kT = BOLTZ*Temperature, a = 0.1, particleMass = 20.0;
     BodyShape shape = tetrahedron(a, particleMass);
     double inertia = shape.moments[0];
@@ -182,7 +191,7 @@ void checkOrientation(double gammaH, double epsilon, int numBodies, int stride, 
         integrator.addRigidBody(particles);
         integrator.setBodyResistance(b, flatten(sphere), Vec3(b, 0, 0));
     }
-    Context context(system, integrator, Platform::getPlatformByName("Reference"));
+    Context context(system, integrator, platform.get(), platform.properties());
     context.setPositions(positions);
     context.setVelocitiesToTemperature(Temperature, 3);
     // Each body carries three orthonormal body-fixed unit vectors: the columns of its rotation.
@@ -221,10 +230,15 @@ void checkOrientation(double gammaH, double epsilon, int numBodies, int stride, 
 
 } // namespace
 
-TEST(SphereDynamics, OrientationalCorrelation) {
+TEST_P(SphereDynamics, OrientationalCorrelation) {
+    const PlatformConfig& platform = GetParam();
     // Short lags at gamma t >= 10, where 1 - C is about 0.05 to 0.1; long lags at 2 D_r t = 1.
     // epsilon = 0.05 (0.005 at gamma h = 100, to keep the rotation per step small).
-    checkOrientation(0.01, 0.05, 200, 100, 800, 10, 0);
-    checkOrientation(1.0, 0.05, 150, 4, 6000, 5, 50);
-    checkOrientation(100.0, 0.005, 150, 4, 6000, 5, 50);
+    if (runsEveryStatisticalCase(platform))
+        checkOrientation(platform, 0.01, 0.05, 200, 100, 800, 10, 0);
+    checkOrientation(platform, 1.0, 0.05, 150, 4, 6000, 5, 50);
+    if (runsEveryStatisticalCase(platform))
+        checkOrientation(platform, 100.0, 0.005, 150, 4, 6000, 5, 50);
 }
+
+INSTANTIATE_TEST_SUITE_P(AllPlatforms, SphereDynamics, testing::ValuesIn(platformConfigs()), PlatformConfigName());
