@@ -6,9 +6,9 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 
-def test_bent_trimers_example():
-    result = subprocess.run([sys.executable, str(ROOT/'examples'/'bent_trimers.py'), '--bodies', '60', '--steps', '200', '--report', '100'],
-                            capture_output=True, text=True, timeout=300)
+def test_bent_trimers_example(platform):
+    result = subprocess.run([sys.executable, str(ROOT/'examples'/'bent_trimers.py'), '--bodies', '60', '--steps', '200', '--report', '100',
+                             '--platform', platform.name], capture_output=True, text=True, timeout=300)
     assert result.returncode == 0, result.stderr
     def numbers(line):
         try:

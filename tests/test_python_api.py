@@ -83,9 +83,9 @@ def test_errors_are_openmm_exceptions():
         rl.RigidLangevinIntegrator(-1, 1, 0.002)
 
 
-def test_context_state_and_temperatures():
+def test_context_state_and_temperatures(platform):
     system, integrator, positions = water_like_body_system()
-    context = mm.Context(system, integrator, mm.Platform.getPlatformByName('Reference'))
+    context = platform.context(system, integrator)
     context.setPositions(positions)
     context.setVelocitiesToTemperature(300*unit.kelvin, 1)
     integrator.step(10)
@@ -125,3 +125,27 @@ def test_resistance_tensor_values():
     assert abs(moved[1, 5]) > 0
     explicit = rl.ResistanceTensor.explicit(moved, mm.Vec3(0.1, 0, 0))
     assert explicit.getCenterOfResistance().value_in_unit(unit.nanometer) == pytest.approx(mm.Vec3(0, 0, 0), abs=1e-12)
+
+
+def test_checkpoint_and_state_continue_on_every_platform(platform):
+    # Free bodies (no forces): a checkpoint continues bit for bit, a State restores the bodies.
+    system, integrator, positions = water_like_body_system(20)
+    integrator.setRandomNumberSeed(5)
+    context = platform.context(system, integrator)
+    context.setPositions(positions)
+    context.setVelocitiesToTemperature(300*unit.kelvin, 2)
+    integrator.step(10)
+    checkpoint = context.createCheckpoint()
+    integrator.step(20)
+    first = context.getState(getPositions=True, getVelocities=True)
+    context.loadCheckpoint(checkpoint)
+    integrator.step(20)
+    second = context.getState(getPositions=True, getVelocities=True)
+    assert np.array_equal(first.getPositions(asNumpy=True), second.getPositions(asNumpy=True))
+    assert np.array_equal(first.getVelocities(asNumpy=True), second.getVelocities(asNumpy=True))
+    # Bodies stay rigid: the distances inside each body are those set.
+    end = second.getPositions(asNumpy=True).value_in_unit(unit.nanometer)
+    start = np.array([[p.x, p.y, p.z] for p in positions])
+    for b in range(20):
+        for i, j in ((0, 1), (0, 2), (1, 2)):
+            assert np.linalg.norm(end[3*b+i]-end[3*b+j]) == pytest.approx(np.linalg.norm(start[3*b+i]-start[3*b+j]), abs=1e-9)
