@@ -76,9 +76,8 @@ void CommonIntegrateRigidLangevinStepKernel::initialize(const System& system, co
     mixedIsDouble = (cc.getUseDoublePrecision() || cc.getUseMixedPrecision());
     cc.getIntegrationUtilities().initRandomNumberGenerator((unsigned int) integrator.getRandomNumberSeed());
     ComputeProgram program = cc.compileProgram(RigidBodyKernelLayout::source(), RigidBodyKernelLayout::defines(cc.getPaddedNumAtoms(), mixedIsDouble));
-    stepKernels[(int) FrictionClass::Scalar] = program->createKernel("stepScalarBodies");
-    stepKernels[(int) FrictionClass::Diagonal] = program->createKernel("stepDiagonalBodies");
-    stepKernels[(int) FrictionClass::Coupled] = program->createKernel("stepCoupledBodies");
+    for (int group = 0; group < NumStepGroups; group++)
+        stepKernels.push_back(program->createKernel(stepKernelName(group)));
     placeKernel = program->createKernel("placeBodyAtoms");
     centerOfMassKernel = program->createKernel("computeCenterOfMassVelocity");
     kineticEnergyKernel = program->createKernel("computeBodyKineticEnergies");
@@ -89,20 +88,21 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
     ContextSelector selector(cc);
     numBodies = model.getNumBodies();
 
-    // Kernel order: by friction class, then type, so each class is one range and one kernel.
+    // Kernel order: by step group, then type, so each group is one range and one kernel.
     bodyOrder.resize(numBodies);
     std::iota(bodyOrder.begin(), bodyOrder.end(), 0);
-    auto key = [&] (int body) {
-        int type = model.getBodyType(body);
-        return std::make_pair((int) model.getType(type).frictionClass, type);
+    auto group = [&] (int body) {
+        const BodyType& type = model.getType(model.getBodyType(body));
+        return stepGroup(type.frictionClass, type.numRotations);
     };
-    std::stable_sort(bodyOrder.begin(), bodyOrder.end(), [&] (int a, int b) {return key(a) < key(b);});
-    for (int c = 0; c <= 3; c++)
-        classStart[c] = 0;
+    std::stable_sort(bodyOrder.begin(), bodyOrder.end(), [&] (int a, int b) {
+        return std::make_pair(group(a), model.getBodyType(a)) < std::make_pair(group(b), model.getBodyType(b));
+    });
+    groupStart.assign(NumStepGroups+1, 0);
     for (int body : bodyOrder)
-        classStart[(int) model.getType(model.getBodyType(body)).frictionClass+1]++;
-    for (int c = 1; c <= 3; c++)
-        classStart[c] += classStart[c-1];
+        groupStart[group(body)+1]++;
+    for (int g = 1; g <= NumStepGroups; g++)
+        groupStart[g] += groupStart[g-1];
 
     // Body particles, contiguous per body in kernel order.
     vector<int> types(numBodies), atomStart(numBodies+1), entryBody;
@@ -361,13 +361,16 @@ void CommonIntegrateRigidLangevinStepKernel::uploadCoefficients(ContextImpl& con
     uploadTypeParameters();
 }
 
-int CommonIntegrateRigidLangevinStepKernel::randomFloat4PerBody(int frictionClass, RigidLangevinIntegrator::Scheme scheme, bool frictionless) {
+int CommonIntegrateRigidLangevinStepKernel::randomFloat4PerBody(int group, RigidLangevinIntegrator::Scheme scheme, bool frictionless) {
     if (frictionless)
         return 0;
-    bool scalar = (frictionClass == (int) FrictionClass::Scalar);
+    int rotations = stepGroupRotations(group);
+    int numbers;
     if (scheme == RigidLangevinIntegrator::ExactFlow)
-        return (scalar ? 2 : 6);  // 2 per coordinate (3 for free particles), 4 for the two halves of rotating bodies
-    return (scalar ? 1 : 2);      // 1 per coordinate
+        numbers = (rotations == 0 ? 2 : 4)*(3+rotations);  // two per coordinate, for each half of the flow of rotating bodies
+    else
+        numbers = 3+rotations;                            // one per coordinate
+    return (numbers+3)/4;
 }
 
 void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, const RigidLangevinIntegrator& integrator, bool removeMotion) {
@@ -382,18 +385,18 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
             centerOfMassKernel->execute(ReductionGroupSize, ReductionGroupSize);
         }
         int numRandom = 0;
-        for (int c = 0; c < 3; c++)
-            numRandom += randomFloat4PerBody(c, scheme, frictionless)*(classStart[c+1]-classStart[c]);
+        for (int g = 0; g < NumStepGroups; g++)
+            numRandom += randomFloat4PerBody(g, scheme, frictionless)*(groupStart[g+1]-groupStart[g]);
         int randomIndex = (numRandom > 0 ? integration.prepareRandomNumbers(numRandom) : 0);
         bool renormalize = (!mixedIsDouble && cc.getStepCount()%OrthonormalizationInterval == 0);
-        for (int c = 0; c < 3; c++) {
-            int count = classStart[c+1]-classStart[c];
+        for (int g = 0; g < NumStepGroups; g++) {
+            int count = groupStart[g+1]-groupStart[g];
             if (count == 0)
                 continue;
-            int perBody = randomFloat4PerBody(c, scheme, frictionless);
-            ComputeKernel& kernel = stepKernels[c];
-            kernel->setArg(StepFirst, classStart[c]);
-            kernel->setArg(StepLast, classStart[c+1]);
+            int perBody = randomFloat4PerBody(g, scheme, frictionless);
+            ComputeKernel& kernel = stepKernels[g];
+            kernel->setArg(StepFirst, groupStart[g]);
+            kernel->setArg(StepLast, groupStart[g+1]);
             kernel->setArg(StepScheme, (int) scheme);
             kernel->setArg(StepFrictionless, frictionless ? 1 : 0);
             setMixedArg(kernel, StepSize, h, mixedIsDouble);

@@ -12,9 +12,11 @@ namespace RigidLangevinPlugin {
  * The implementation of RigidLangevinIntegrator for OpenMM's common compute platforms (OpenCL,
  * CUDA, HIP): one kernel source, compiled at runtime by the platform's ComputeContext.
  *
- * Each step runs one kernel per friction class present (Scalar, Diagonal, Coupled: bodies are
- * sorted by class, then type, so that no class pays for another's work), one work item per body:
- * gather force and torque from OpenMM's fixed-point force buffer, kick, flow. Then one work item
+ * Each step runs one kernel per group of bodies present, a group being one friction class (Scalar,
+ * Diagonal, Coupled) and one number of rotations (0, 2, 3): bodies are sorted by group, then type,
+ * so that no class pays for another's work and each kernel is compiled for its number of
+ * coordinates. One work item per body: gather force and torque from OpenMM's fixed-point force
+ * buffer, kick, flow. Then one work item
  * per particle places the particles, and the platform computes virtual sites. Noise comes from
  * OpenMM's IntegrationUtilities random numbers, so its state is part of the platform's checkpoint.
  *
@@ -49,12 +51,12 @@ private:
     void uploadStates(const std::vector<BodyState>& states);
     template <class Mixed, class Mixed4>
     void downloadStates(std::vector<BodyState>& states);
-    /** Normal random numbers, in float4s, one body of a class takes per step. */
-    static int randomFloat4PerBody(int frictionClass, RigidLangevinIntegrator::Scheme scheme, bool frictionless);
+    /** Normal random numbers, in float4s, one body of a step group takes per step. */
+    static int randomFloat4PerBody(int group, RigidLangevinIntegrator::Scheme scheme, bool frictionless);
     OpenMM::ComputeContext& cc;
     bool mixedIsDouble, hasSetArguments;
     int numBodies, numEntries, numReductionGroups;
-    int classStart[4];                   // kernel body ranges of the Scalar, Diagonal and Coupled classes
+    std::vector<int> groupStart;         // kernel body range of each step group (RigidBodyKernelLayout)
     std::vector<int> bodyOrder;          // kernel body index -> model body index
     std::vector<int> entryParticle;      // body particle entry -> System particle index
     std::vector<double> hostTypeParams;  // TypeStride values per type, in double precision
@@ -62,7 +64,8 @@ private:
     OpenMM::ComputeArray bodyPosition, bodyVelocity, bodyAngularMomentum, bodyRotation, bodyType, bodyAtomStart;
     OpenMM::ComputeArray atomBody, atomSlot, atomCoords, atomCellOffset;
     OpenMM::ComputeArray typeParams, typeInfo, centerOfMassVelocity, kineticEnergies;
-    OpenMM::ComputeKernel stepKernels[3], placeKernel, centerOfMassKernel, kineticEnergyKernel;
+    std::vector<OpenMM::ComputeKernel> stepKernels;  // one per step group
+    OpenMM::ComputeKernel placeKernel, centerOfMassKernel, kineticEnergyKernel;
 };
 
 } // namespace RigidLangevinPlugin

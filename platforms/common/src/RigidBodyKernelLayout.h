@@ -32,6 +32,34 @@ enum TypeParameter {
 /** Work items per group of the reduction kernels. */
 const int ReductionGroupSize = 128;
 
+/**
+ * Bodies are stepped in groups of one friction class and one number of rotations (0, 2 or 3), each
+ * group by a kernel compiled for it: a class never pays for another's work, and with the number of
+ * coordinates known at compile time the per-body arrays stay in registers.
+ */
+const int NumStepGroups = 7;
+
+/** The step group of a body type. */
+inline int stepGroup(FrictionClass frictionClass, int numRotations) {
+    if (frictionClass == FrictionClass::Scalar)
+        return 0;
+    int rotations = (numRotations == 0 ? 0 : numRotations == 2 ? 1 : 2);
+    return (frictionClass == FrictionClass::Diagonal ? 1 : 4)+rotations;
+}
+
+/** The number of rotations of the bodies of a step group. */
+inline int stepGroupRotations(int group) {
+    static const int rotations[NumStepGroups] = {0, 0, 2, 3, 0, 2, 3};
+    return rotations[group];
+}
+
+/** The name of the kernel that steps a group (rigidBodyStep.cc). */
+inline std::string stepKernelName(int group) {
+    static const char* names[NumStepGroups] = {"stepScalarBodies", "stepDiagonalBodies0", "stepDiagonalBodies2", "stepDiagonalBodies3",
+                                               "stepCoupledBodies0", "stepCoupledBodies2", "stepCoupledBodies3"};
+    return names[group];
+}
+
 /** The device source: every kernel file, in the order they depend on each other. */
 inline std::string source() {
     return CommonRigidLangevinKernelSources::rigidBodyMath+CommonRigidLangevinKernelSources::rigidBodyAtoms+

@@ -1,10 +1,11 @@
 /**
  * One step of every body: gather its force and torque, kick, then the scheme's flow. The equations
  * are those of the plugin's BodyDynamics.h (the Reference kernel's), see there and docs/physics.md
- * for why each term is there. Bodies are grouped by friction class and each class has its own
- * kernel, so that a class never pays for another's work: Scalar bodies (free particles) take their
- * exact flow in the lab frame with scalar coefficients, Diagonal bodies multiply by diagonals, only
- * Coupled bodies apply the 6x6 mode matrices.
+ * for why each term is there. Bodies are grouped by friction class and number of rotations, and
+ * each group has its own kernel, so that a class never pays for another's work: Scalar bodies (free
+ * particles) take their exact flow in the lab frame with scalar coefficients, Diagonal bodies
+ * multiply by diagonals, only Coupled bodies apply the 6x6 mode matrices; and the number of
+ * coordinates is a constant, so that loops unroll and per-body arrays stay in registers.
  *
  * Generalized coordinates: translation along the body axes (0-2), then rotation about the axes
  * that rotate (3 - numRotations to 2); type parameters cover the dof active ones.
@@ -271,10 +272,10 @@ DEVICE void scalarFlow(Body* b, GLOBAL const mixed* RESTRICT tp, int scheme, mix
 }
 
 /**
- * Advance body k by one step. frictionClass is a constant in each kernel that calls this, so the
- * compiler drops the other classes' code.
+ * Advance body k by one step. frictionClass and numRotations are constants in each kernel that calls
+ * this, so the compiler drops the other groups' code and unrolls the loops over coordinates.
  */
-DEVICE void stepBody(int body, int frictionClass, int scheme, int frictionless, mixed h, int removeMotion, int renormalize,
+DEVICE void stepBody(int body, int frictionClass, int numRotations, int scheme, int frictionless, mixed h, int removeMotion, int renormalize,
         GLOBAL mixed4* RESTRICT bodyPosition, GLOBAL mixed4* RESTRICT bodyVelocity, GLOBAL mixed4* RESTRICT bodyAngularMomentum,
         GLOBAL mixed4* RESTRICT bodyRotation, GLOBAL const int* RESTRICT bodyType, GLOBAL const int* RESTRICT bodyAtomStart,
         GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT atomCoords, GLOBAL const mm_long* RESTRICT force,
@@ -284,8 +285,8 @@ DEVICE void stepBody(int body, int frictionClass, int scheme, int frictionless, 
     GLOBAL const mixed* tp = &typeParams[type*TYPE_STRIDE];
     int4 info = typeInfo[type];
     Body b;
-    b.dof = info.x;
-    b.numRotations = info.y;
+    b.dof = 3+numRotations;
+    b.numRotations = numRotations;
     b.halfSteps = info.z;
     b.mass = tp[TP_MASS];
     for (int i = 0; i < 3; i++)
@@ -348,7 +349,7 @@ DEVICE void stepBody(int body, int frictionClass, int scheme, int frictionless, 
         storeRotation(bodyRotation, body, b.q);
 }
 
-#define STEP_KERNEL(name, frictionClass) \
+#define STEP_KERNEL(name, frictionClass, numRotations) \
 KERNEL void name(int first, int last, int scheme, int frictionless, mixed h, int removeMotion, int renormalize, \
         GLOBAL mixed4* RESTRICT bodyPosition, GLOBAL mixed4* RESTRICT bodyVelocity, GLOBAL mixed4* RESTRICT bodyAngularMomentum, \
         GLOBAL mixed4* RESTRICT bodyRotation, GLOBAL const int* RESTRICT bodyType, GLOBAL const int* RESTRICT bodyAtomStart, \
@@ -356,11 +357,15 @@ KERNEL void name(int first, int last, int scheme, int frictionless, mixed h, int
         GLOBAL const mixed* RESTRICT typeParams, GLOBAL const int4* RESTRICT typeInfo, GLOBAL const float4* RESTRICT random, \
         int randomIndex, int randomPerBody, GLOBAL const mixed4* RESTRICT centerOfMassVelocity) { \
     for (int body = first+GLOBAL_ID; body < last; body += GLOBAL_SIZE) \
-        stepBody(body, frictionClass, scheme, frictionless, h, removeMotion, renormalize, bodyPosition, bodyVelocity, \
+        stepBody(body, frictionClass, numRotations, scheme, frictionless, h, removeMotion, renormalize, bodyPosition, bodyVelocity, \
                 bodyAngularMomentum, bodyRotation, bodyType, bodyAtomStart, atomSlot, atomCoords, force, typeParams, typeInfo, \
                 random, randomIndex-randomPerBody*first, randomPerBody, centerOfMassVelocity); \
 }
 
-STEP_KERNEL(stepScalarBodies, CLASS_SCALAR)
-STEP_KERNEL(stepDiagonalBodies, CLASS_DIAGONAL)
-STEP_KERNEL(stepCoupledBodies, CLASS_COUPLED)
+STEP_KERNEL(stepScalarBodies, CLASS_SCALAR, 0)
+STEP_KERNEL(stepDiagonalBodies0, CLASS_DIAGONAL, 0)
+STEP_KERNEL(stepDiagonalBodies2, CLASS_DIAGONAL, 2)
+STEP_KERNEL(stepDiagonalBodies3, CLASS_DIAGONAL, 3)
+STEP_KERNEL(stepCoupledBodies0, CLASS_COUPLED, 0)
+STEP_KERNEL(stepCoupledBodies2, CLASS_COUPLED, 2)
+STEP_KERNEL(stepCoupledBodies3, CLASS_COUPLED, 3)
