@@ -17,16 +17,16 @@ namespace {
 
 /**
  * The seed of one chunk's random stream: a 32-bit mix of the integrator's seed and the chunk
- * index (MurmurHash3's finalizer), never 0, which GaussianRandom reads as "choose one".
+ * index (MurmurHash3's finalizer), so that neighbouring chunks start far apart.
  */
-int chunkSeed(uint32_t seed, int chunk) {
+uint32_t chunkSeed(uint32_t seed, int chunk) {
     uint32_t h = seed ^ (0x9e3779b9u*(uint32_t) (chunk+1));
     h ^= h >> 16;
     h *= 0x85ebca6bu;
     h ^= h >> 13;
     h *= 0xc2b2ae35u;
     h ^= h >> 16;
-    return (h == 0 ? 1 : (int) h);
+    return h;
 }
 
 } // namespace
@@ -142,7 +142,7 @@ void CpuIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, const R
     const bool frictionless = (integrator.getViscosity() == 0);
     // One pass per body: forces, kick, flow and placing its particles, while the body is in cache.
     forEachChunk([&] (int chunk, int begin, int end) {
-        GaussianRandom& rng = random[chunk]->random;
+        ZigguratGaussianRandom& rng = random[chunk]->random;
         for (int b = begin; b < end; b++) {
             int typeIndex = model->getBodyType(b);
             const BodyType& type = model->getType(typeIndex);

@@ -4,7 +4,7 @@
 #include "CpuBodyStates.h"
 #include "CpuPlatform.h"
 #include "ReferencePlatform.h"
-#include "internal/GaussianRandom.h"
+#include "ZigguratGaussianRandom.h"
 #include "internal/RigidLangevinStepKernelBase.h"
 #include <functional>
 #include <memory>
@@ -16,8 +16,9 @@ namespace RigidLangevinPlugin {
  * The CPU platform's implementation of RigidLangevinIntegrator: the Reference kernel's equations
  * of motion (BodyDynamics.h, double precision), threaded with the CPU platform's ThreadPool.
  *
- * The bodies are split into a fixed set of contiguous chunks, each with its own stream of random
- * numbers; threads take whole chunks. The partition depends only on the number of bodies, so a
+ * The bodies are split into a fixed set of contiguous chunks, each with its own stream of normal
+ * random numbers (ZigguratGaussianRandom: the kernel draws up to 24 per body and step); threads take
+ * whole chunks. The partition depends only on the number of bodies, so a
  * trajectory is determined by the random number seed (and the forces), whatever the number of
  * threads.
  */
@@ -53,9 +54,9 @@ private:
      * every number, and threads drawing from neighbouring ones would otherwise share lines.
      */
     struct alignas(64) RandomStream {
-        explicit RandomStream(int seed) : random(seed) {
+        explicit RandomStream(uint32_t seed) : random(seed) {
         }
-        GaussianRandom random;
+        ZigguratGaussianRandom random;
     };
     OpenMM::ReferencePlatform::PlatformData& data;
     OpenMM::ThreadPool& threads;
