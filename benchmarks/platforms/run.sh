@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Run the platform benchmarks: integrator cost (1e3 to 1e6 bodies) and the rigid water box against
+# LangevinMiddleIntegrator with SETTLE, on every platform. Tables go to stdout and to
+# benchmarks/platforms/results/*.csv, plots to results/*.png. Takes about 30 minutes on 2 cores.
+#
+#   bash benchmarks/platforms/run.sh
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+bash "$ROOT/scripts/setup.sh" >/dev/null
+# numpy's OpenBLAS threads would compete with OpenMM's for the cores.
+export OPENBLAS_NUM_THREADS=1
+cd "$ROOT/benchmarks/platforms"
+echo "==> integrator cost"
+"$ROOT/.venv/bin/python" integrator_cost.py "$@" 2>&1 | grep -v "Using an unsupported OpenCL implementation"
+echo "==> rigid water box"
+"$ROOT/.venv/bin/python" water_box.py 2>&1 | grep -v "Using an unsupported OpenCL implementation"

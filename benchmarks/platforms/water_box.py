@@ -1,0 +1,125 @@
+"""End to end: a box of rigid TIP3P water (about 4000 molecules, PME) with RigidLangevinIntegrator
+(each water one rigid body; the water constraints of the System are inside bodies and ignored)
+against LangevinMiddleIntegrator with SETTLE, on the same platform and the same System. Reports
+the time per step of each and their ratio.
+
+    python benchmarks/platforms/water_box.py [--box 5.0] [--platforms CPU OpenCL CUDA]
+"""
+import argparse
+
+import numpy as np
+import openmm as mm
+import openmm.app as app
+import openmm.unit as unit
+
+import rigidlangevin as rl
+from benchmark_utils import platform_status, time_per_step, write_table, RESULTS
+
+
+def build_water_box(box):
+    """A System of rigid TIP3P water in a cubic box (nm) with PME, and exactly rigid positions."""
+    forcefield = app.ForceField('amber14/tip3p.xml')
+    modeller = app.Modeller(app.Topology(), [])
+    modeller.addSolvent(forcefield, boxSize=mm.Vec3(box, box, box)*unit.nanometer)
+    system = forcefield.createSystem(modeller.topology, nonbondedMethod=app.PME, nonbondedCutoff=0.9*unit.nanometer,
+                                     constraints=None, rigidWater=True)
+    # Make the waters exactly rigid (the pre-equilibrated box is written to 1e-4 nm), so that they
+    # are all one body type, and relax the packing briefly.
+    context = mm.Context(system, mm.VerletIntegrator(0.001), mm.Platform.getPlatformByName('CPU'))
+    context.setPositions(modeller.positions)
+    context.applyConstraints(1e-10)
+    mm.LocalEnergyMinimizer.minimize(context, 10.0, 50)
+    context.applyConstraints(1e-10)
+    positions = context.getState(getPositions=True).getPositions(asNumpy=True)
+    waters = [[atom.index for atom in residue.atoms()] for residue in modeller.topology.residues()]
+    return system, positions, waters
+
+
+def rigid_integrator(system, waters):
+    integrator = rl.RigidLangevinIntegrator(300*unit.kelvin, 0.89*rl.centipoise, 2*unit.femtoseconds)
+    for atoms in waters:
+        integrator.addRigidBody(atoms)
+        for atom in atoms:
+            if system.getParticleMass(atom).value_in_unit(unit.dalton) < 2:
+                integrator.setParticleRadius(atom, 0.1*unit.nanometer)  # hydrogens: TIP3P gives them no LJ radius
+    return integrator
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    parser.add_argument('--box', type=float, default=5.0, help='box edge in nm (5 nm: about 4100 waters)')
+    parser.add_argument('--platforms', nargs='+', default=['CPU', 'OpenCL', 'CUDA'])
+    parser.add_argument('--steps', type=int, default=0, help='steps per timing block (default: by platform)')
+    args = parser.parse_args()
+    system, positions, waters = build_water_box(args.box)
+    print(f'{len(waters)} waters, {system.getNumParticles()} particles, PME, cutoff 0.9 nm, 2 fs', flush=True)
+    rows = []
+    for name in args.platforms:
+        status = platform_status(name)
+        if status is not None:
+            rows.append({'platform': name, 'precision': '-', 'note': status})
+            continue
+        precisions = ['single', 'mixed'] if name in ('OpenCL', 'CUDA') else ['']
+        for precision in precisions:
+            properties = {'Precision': precision} if precision else {}
+            steps = args.steps or (100 if name == 'CUDA' else 40)
+            timings = {}
+            # Alternate the two integrators so that both see the same machine load.
+            contexts = {}
+            for kind in ('rigid', 'middle'):
+                if kind == 'rigid':
+                    integrator = rigid_integrator(system, waters)
+                else:
+                    integrator = mm.LangevinMiddleIntegrator(300*unit.kelvin, 1/unit.picosecond, 2*unit.femtoseconds)
+                context = mm.Context(system, integrator, mm.Platform.getPlatformByName(name), properties)
+                context.setPositions(positions)
+                context.setVelocitiesToTemperature(300*unit.kelvin, 1)
+                integrator.step(10)
+                contexts[kind] = (integrator, context)
+            for round in range(3):
+                for kind, (integrator, context) in contexts.items():
+                    t = time_per_step(integrator, context, steps, repeats=1)
+                    timings[kind] = min(timings.get(kind, float('inf')), t)
+            rigid, middle = timings['rigid'], timings['middle']
+            row = {'platform': name, 'precision': precision or 'double/single (CPU platform)', 'waters': len(waters),
+                   'rigid_langevin_ms_per_step': f'{1e3*rigid:.4g}', 'langevin_middle_settle_ms_per_step': f'{1e3*middle:.4g}',
+                   'ratio': f'{rigid/middle:.3f}', 'rigid_ns_per_day': f'{0.002*86400/rigid/1e3:.3g}',
+                   'middle_ns_per_day': f'{0.002*86400/middle/1e3:.3g}'}
+            rows.append(row)
+            print(row, flush=True)
+            del contexts
+    columns = ['platform', 'precision', 'waters', 'rigid_langevin_ms_per_step', 'langevin_middle_settle_ms_per_step', 'ratio',
+               'rigid_ns_per_day', 'middle_ns_per_day', 'note']
+    write_table('water_box', columns, rows)
+    plot(rows)
+
+
+def plot(rows):
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    measured = [r for r in rows if r.get('ratio')]
+    labels = [f"{r['platform']}\n{r['precision'].split()[0]}" for r in measured]
+    x = np.arange(len(measured))
+    fig, ax = plt.subplots(figsize=(max(5, 1.8*len(measured)+2), 4))
+    ax.bar(x-0.2, [float(r['rigid_langevin_ms_per_step']) for r in measured], 0.4, label='RigidLangevinIntegrator (rigid bodies)')
+    ax.bar(x+0.2, [float(r['langevin_middle_settle_ms_per_step']) for r in measured], 0.4, label='LangevinMiddleIntegrator + SETTLE')
+    for i, r in enumerate(measured):
+        ax.text(i, max(float(r['rigid_langevin_ms_per_step']), float(r['langevin_middle_settle_ms_per_step']))*1.02,
+                f"ratio {r['ratio']}", ha='center', fontsize=9)
+    ax.set_xticks(x, labels)
+    ax.set_ylabel('time per step (ms)')
+    missing = [r['platform'] for r in rows if not r.get('ratio')]
+    title = f"{measured[0]['waters'] if measured else ''} rigid TIP3P waters, PME"
+    if missing:
+        title += f" ({', '.join(missing)}: not available here)"
+    ax.set_title(title, fontsize=10)
+    ax.legend(fontsize=8, loc='lower right')
+    fig.tight_layout()
+    path = f'{RESULTS}/water_box.png'
+    fig.savefig(path, dpi=120)
+    print(f'(plot: {path})')
+
+
+if __name__ == '__main__':
+    main()
