@@ -46,8 +46,8 @@ namespace RigidLangevinPlugin {
  *
  * Bodies are defined before the Context is created. Their geometry is taken from the positions
  * first set on the Context; identical bodies (same masses, radii and shape up to rotation and
- * translation, within 1e-4 nm) share one set of precomputed matrices and the exact same shape.
- * Positions set later must agree with rigid placements of the bodies (within 1e-4 nm) and
+ * translation, within 1e-3 nm) share one set of precomputed matrices and the exact same shape.
+ * Positions set later must agree with rigid placements of the bodies (within 1e-3 nm) and
  * velocities are projected onto rigid motion.
  */
 class OPENMM_EXPORT_RIGIDLANGEVIN RigidLangevinIntegrator : public OpenMM::Integrator {
