@@ -1,6 +1,7 @@
 """RigidLangevinIntegrator in openmm.app: Simulation, reporters, checkpoints, States, force-field water."""
 import io
 import os
+import pathlib
 
 import numpy as np
 import openmm as mm
@@ -160,3 +161,22 @@ def test_selecting_residues_and_radii():
     assert integrator.getParticleRadius(0) is None
     integrator2 = rl.RigidLangevinIntegrator(300, 100, 0.002)
     assert len(rl.addRigidBodies(integrator2, modeller.topology, system, residues=['HOH'])) == 10
+
+
+@pytest.mark.parametrize('model', ['tip3p', 'spce'])
+def test_water_without_any_constraints_runs_as_bodies(model):
+    # A flexible-water System (bonds and angles, no constraints) moved as rigid bodies: the
+    # intramolecular forces cancel within each body, which keeps its shape.
+    pdb = app.PDBFile(str(pathlib.Path(__file__).resolve().parents[1]/'examples'/'data'/'water256.pdb'))
+    forcefield = app.ForceField(WATER_MODELS[model])
+    system = forcefield.createSystem(pdb.topology, nonbondedMethod=app.PME, nonbondedCutoff=0.9*unit.nanometer, rigidWater=False)
+    assert system.getNumConstraints() == 0
+    integrator = rl.RigidLangevinIntegrator(300*unit.kelvin, 0.1*rl.poise, 2*unit.femtoseconds)
+    rl.addRigidBodies(integrator, pdb.topology, system)
+    simulation = app.Simulation(pdb.topology, system, integrator, mm.Platform.getPlatformByName('CPU'))
+    simulation.context.setPositions(pdb.positions)
+    simulation.context.setVelocitiesToTemperature(300*unit.kelvin, 1)
+    shapes = body_shapes(simulation)
+    simulation.step(100)
+    assert np.abs(body_shapes(simulation)-shapes).max() < 1e-3
+    assert 200 < integrator.computeSystemTemperature().value_in_unit(unit.kelvin) < 400
