@@ -40,7 +40,8 @@ def _communicator():
 
 
 class EnsembleResult(dict):
-    """Observable name -> (mean, standard error); also the number of replicas and their seeds."""
+    """Observable name -> (mean, standard error) for every numeric observable; also the number of
+    replicas, their seeds and every replica's own values (in `values`, anything they returned)."""
 
     def __init__(self, values, seeds):
         super().__init__()
@@ -48,7 +49,10 @@ class EnsembleResult(dict):
         self.seeds = seeds
         self.values = values
         for name in values[0]:
-            stacked = np.array([v[name] for v in values], dtype=float)
+            try:
+                stacked = np.array([v[name] for v in values], dtype=float)
+            except (TypeError, ValueError):
+                continue
             mean = stacked.mean(axis=0)
             error = stacked.std(axis=0, ddof=1)/math.sqrt(len(values)) if len(values) > 1 else np.full_like(mean, np.nan)
             self[name] = (mean, error)
