@@ -3,6 +3,8 @@
  * never a crash, a NaN trajectory or a silent wrong answer.
  */
 #include "RigidBodyTestUtilities.h"
+#include "openmm/AndersenThermostat.h"
+#include "openmm/MonteCarloBarostat.h"
 #include "openmm/NonbondedForce.h"
 #include "openmm/OpenMMException.h"
 #include <gtest/gtest.h>
@@ -121,6 +123,18 @@ TEST(BadInput, BodiesAgainstTheSystem) {
         integrator.addRigidBody({0, 1});
         integrator.setParticleRadius(0, 0.1);
         expectError([&] {Context c(system, integrator, platform);}, {"particle 1", "rigid body 0", "setParticleRadius"});
+    }
+    for (int kind = 0; kind < 2; kind++) {
+        // Forces that move particles or set velocities themselves would be silently undone.
+        System system = particles(2);
+        if (kind == 0)
+            system.addForce(new MonteCarloBarostat(1.0, 300.0));
+        else
+            system.addForce(new AndersenThermostat(300.0, 1.0));
+        RigidLangevinIntegrator integrator(300, 1, 0.002);
+        integrator.setParticleRadius(0, 0.1);
+        integrator.setParticleRadius(1, 0.1);
+        expectError([&] {Context c(system, integrator, platform);}, {kind == 0 ? "barostat" : "AndersenThermostat", "force 0"});
     }
 }
 

@@ -2,6 +2,11 @@
 #include "internal/ResistanceMath.h"
 #include "RigidLangevinIntegrator.h"
 #include "ResistanceTensor.h"
+#include "openmm/AndersenThermostat.h"
+#include "openmm/MonteCarloAnisotropicBarostat.h"
+#include "openmm/MonteCarloBarostat.h"
+#include "openmm/MonteCarloFlexibleBarostat.h"
+#include "openmm/MonteCarloMembraneBarostat.h"
 #include "openmm/NonbondedForce.h"
 #include "openmm/OpenMMException.h"
 #include <Eigen/Eigenvalues>
@@ -96,6 +101,19 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidLangevinIntegrat
             particleBody[p] = bodyParticles.size();
             bodyParticles.push_back({p});
         }
+
+    // Forces that move particles or set velocities behind the integrator's back would be undone by
+    // the next step, which places particles from the body states.
+    for (int i = 0; i < system.getNumForces(); i++) {
+        const Force& force = system.getForce(i);
+        if (dynamic_cast<const MonteCarloBarostat*>(&force) != NULL || dynamic_cast<const MonteCarloAnisotropicBarostat*>(&force) != NULL ||
+                dynamic_cast<const MonteCarloMembraneBarostat*>(&force) != NULL || dynamic_cast<const MonteCarloFlexibleBarostat*>(&force) != NULL)
+            throw OpenMMException("RigidLangevinIntegrator: the System has a Monte Carlo barostat (force "+std::to_string(i)+"); barostats move particles "
+                    "themselves, which rigid bodies cannot follow yet. Remove it and run at constant volume");
+        if (dynamic_cast<const AndersenThermostat*>(&force) != NULL)
+            throw OpenMMException("RigidLangevinIntegrator: the System has an AndersenThermostat (force "+std::to_string(i)+"); the integrator is "
+                    "its own thermostat. Remove the AndersenThermostat");
+    }
 
     // Constraints inside a body are satisfied by its rigidity; any other one cannot be honoured.
     for (int i = 0; i < system.getNumConstraints(); i++) {
