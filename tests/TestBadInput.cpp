@@ -127,6 +127,7 @@ TEST(BadInput, BodiesAgainstTheSystem) {
     for (int kind = 0; kind < 2; kind++) {
         // Forces that move particles or set velocities themselves would be silently undone.
         System system = particles(2);
+        system.setDefaultPeriodicBoxVectors(Vec3(3, 0, 0), Vec3(0, 3, 0), Vec3(0, 0, 3));
         if (kind == 0)
             system.addForce(new MonteCarloBarostat(1.0, 300.0));
         else
@@ -134,6 +135,11 @@ TEST(BadInput, BodiesAgainstTheSystem) {
         RigidLangevinIntegrator integrator(300, 1, 0.002);
         integrator.setParticleRadius(0, 0.1);
         integrator.setParticleRadius(1, 0.1);
+        NonbondedForce* periodic = new NonbondedForce();
+        periodic->setNonbondedMethod(NonbondedForce::CutoffPeriodic);
+        periodic->addParticle(0, 0.3, 0.5);
+        periodic->addParticle(0, 0.3, 0.5);
+        system.addForce(periodic);
         expectError([&] {Context c(system, integrator, platform);}, {kind == 0 ? "barostat" : "AndersenThermostat", "force 0"});
     }
 }
