@@ -33,6 +33,18 @@ public:
     /** A sphere of the given radius with stick boundary conditions (Stokes: 6 pi R, 8 pi R^3). */
     static ResistanceTensor sphere(double radius, const OpenMM::Vec3& center = OpenMM::Vec3());
     /**
+     * A triaxial ellipsoid with semi-axes a, b, c (nm) along x, y, z, centred at center, with stick
+     * boundary conditions: Perrin's friction coefficients, evaluated with Carlson's symmetric
+     * elliptic integrals R_F and R_D. The tensor is diagonal about the centre.
+     */
+    static ResistanceTensor ellipsoid(double a, double b, double c, const OpenMM::Vec3& center = OpenMM::Vec3());
+    /**
+     * An ellipsoid of revolution with semi-axis a (nm) along its symmetry axis x and b along y and
+     * z, centred at center: Perrin's closed forms (prolate a > b, oblate a < b, the sphere a = b).
+     * Agrees with ellipsoid(a, b, b) to rounding error.
+     */
+    static ResistanceTensor spheroid(double a, double b, const OpenMM::Vec3& center = OpenMM::Vec3());
+    /**
      * A free-draining bead model: each bead feels Stokes friction 6 pi r_i of its own velocity, with
      * no hydrodynamic interaction between beads. Beads of zero radius are skipped. The origin is
      * the first bead's position.

@@ -1,4 +1,5 @@
 #include "ResistanceTensor.h"
+#include "internal/PerrinFriction.h"
 #include "internal/ResistanceMath.h"
 #include "openmm/OpenMMException.h"
 #include <Eigen/Cholesky>
@@ -57,6 +58,34 @@ ResistanceTensor ResistanceTensor::sphere(double radius, const Vec3& center) {
     fromMatrix6(m, t.values);
     t.origin = center;
     return t;
+}
+
+namespace {
+
+ResistanceTensor diagonal(const PerrinFriction::PrincipalFriction& f, const Vec3& center) {
+    vector<double> m(36, 0.0);
+    for (int i = 0; i < 3; i++) {
+        m[7*i] = f.translation[i];
+        m[7*(i+3)] = f.rotation[i];
+    }
+    return ResistanceTensor::fromMatrix(m, center);
+}
+
+void checkCenter(const std::string& caller, const Vec3& center) {
+    if (!std::isfinite(center[0]) || !std::isfinite(center[1]) || !std::isfinite(center[2]))
+        throw OpenMMException(caller+": the centre must have finite coordinates");
+}
+
+} // namespace
+
+ResistanceTensor ResistanceTensor::ellipsoid(double a, double b, double c, const Vec3& center) {
+    checkCenter("ResistanceTensor::ellipsoid", center);
+    return diagonal(PerrinFriction::ellipsoid(a, b, c), center);
+}
+
+ResistanceTensor ResistanceTensor::spheroid(double a, double b, const Vec3& center) {
+    checkCenter("ResistanceTensor::spheroid", center);
+    return diagonal(PerrinFriction::spheroid(a, b), center);
 }
 
 ResistanceTensor ResistanceTensor::freeDrainingBeads(const vector<Vec3>& positions, const vector<double>& radii) {
