@@ -72,6 +72,30 @@ public:
     /** The sum of the volumes 4/3 pi r^3 of beads with these radii (nm^3). */
     static double beadVolume(const std::vector<double>& radii);
     /**
+     * A rough shell model of a molecule: the surface of the union of its atoms' spheres (centres
+     * positions, radii radii) tiled with beads of radius beadRadius whose centres lie on that
+     * surface, about 3 beadRadius apart (see roughShellBeads()), solved as in beads() without
+     * volume correction. The result
+     * is that of a finite bead size, larger than the molecule's own by a relative amount of order
+     * beadRadius/size; shellExtrapolated() removes that. Its origin is the atoms' centroid.
+     */
+    static ResistanceTensor roughShell(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, double beadRadius);
+    /** The bead centres of roughShell(positions, radii, beadRadius); every bead has radius beadRadius. */
+    static std::vector<OpenMM::Vec3> roughShellBeads(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii,
+                                                     double beadRadius);
+    /**
+     * The resistance of the union of the atoms' spheres itself: rough shells at numResolutions bead
+     * radii, from the one that gives about maxBeads beads up to twice that, each element of the
+     * tensor (about the atoms' centroid) fitted by a straight line in the bead radius and taken at
+     * zero bead radius, as Garcia de la Torre's HYDRO codes do. It takes about twice as long as
+     * beads() on the largest shell: well under a second at 1000 beads, a few seconds at 2000. At
+     * the default 2000 it reproduces a sphere, prolate spheroids of axial ratio 2 and 5 and two
+     * touching spheres to 0.5% or better (1% at 1000 beads). Its origin is the atoms' centroid.
+     * Throws if an atom is invalid or if the extrapolated tensor is not positive definite.
+     */
+    static ResistanceTensor shellExtrapolated(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii,
+                                              int maxBeads = 2000, int numResolutions = 6);
+    /**
      * A free-draining bead model: each bead feels Stokes friction 6 pi r_i of its own velocity, with
      * no hydrodynamic interaction between beads. Beads of zero radius are skipped. The origin is
      * the first bead's position.

@@ -2,6 +2,7 @@
 #include "internal/BeadHydrodynamics.h"
 #include "internal/PerrinFriction.h"
 #include "internal/ResistanceMath.h"
+#include "internal/ShellModel.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/reference/SimTKOpenMMRealType.h"
 #include <Eigen/Cholesky>
@@ -80,6 +81,11 @@ Vec3 centroid(const vector<Vec3>& positions) {
     return sum/(double) positions.size();
 }
 
+void checkBeadRadius(const std::string& caller, double beadRadius) {
+    if (!(beadRadius > 0) || !std::isfinite(beadRadius))
+        throw OpenMMException(caller+": the shell's bead radius is "+std::to_string(beadRadius)+"; it must be positive and finite (nm)");
+}
+
 void checkCenter(const std::string& caller, const Vec3& center) {
     if (!std::isfinite(center[0]) || !std::isfinite(center[1]) || !std::isfinite(center[2]))
         throw OpenMMException(caller+": the centre must have finite coordinates");
@@ -121,6 +127,41 @@ double ResistanceTensor::beadVolume(const vector<double>& radii) {
         volume += 4*M_PI/3*radii[i]*radii[i]*radii[i];
     }
     return volume;
+}
+
+vector<Vec3> ResistanceTensor::roughShellBeads(const vector<Vec3>& positions, const vector<double>& radii, double beadRadius) {
+    ShellModel::validateSpheres("ResistanceTensor::roughShellBeads", positions, radii);
+    checkBeadRadius("ResistanceTensor::roughShellBeads", beadRadius);
+    return ShellModel::tileSphereUnion(positions, radii, beadRadius);
+}
+
+ResistanceTensor ResistanceTensor::roughShell(const vector<Vec3>& positions, const vector<double>& radii, double beadRadius) {
+    ShellModel::validateSpheres("ResistanceTensor::roughShell", positions, radii);
+    checkBeadRadius("ResistanceTensor::roughShell", beadRadius);
+    vector<Vec3> shell = ShellModel::tileSphereUnion(positions, radii, beadRadius);
+    ResistanceTensor t;
+    t.origin = centroid(positions);
+    fromMatrix6(BeadHydrodynamics::resistance("ResistanceTensor::roughShell", shell, vector<double>(shell.size(), beadRadius), t.origin), t.values);
+    return t;
+}
+
+ResistanceTensor ResistanceTensor::shellExtrapolated(const vector<Vec3>& positions, const vector<double>& radii, int maxBeads, int numResolutions) {
+    const std::string caller = "ResistanceTensor::shellExtrapolated";
+    ShellModel::validateSpheres(caller, positions, radii);
+    ShellModel::Tiling tiling = [&](double sigma) { return ShellModel::tileSphereUnion(positions, radii, sigma); };
+    double area = 0;  // the spheres' total area: at least the union's, a fine first guess
+    for (double r : radii)
+        area += 4*M_PI*r*r;
+    ResistanceTensor t;
+    t.origin = centroid(positions);
+    Matrix6 xi = ShellModel::extrapolated(caller, tiling, area, t.origin, maxBeads, numResolutions);
+    // Every shell is positive definite, but a straight line through shells too coarse for the
+    // molecule's detail need not be.
+    if (Eigen::LLT<Matrix6>(xi).info() != Eigen::Success)
+        throw OpenMMException(caller+": the tensor extrapolated to zero bead size is not positive definite: shells of at most "+std::to_string(maxBeads)+
+                " beads are too coarse for this molecule; raise maxBeads");
+    fromMatrix6(xi, t.values);
+    return t;
 }
 
 ResistanceTensor ResistanceTensor::freeDrainingBeads(const vector<Vec3>& positions, const vector<double>& radii) {
