@@ -8,10 +8,18 @@
 #include "../openmmapi/src/beadkernel/BeadResistanceKernel.h"
 #include "../openmmapi/src/beadkernel/ParallelCholesky.h"
 #include "openmm/OpenMMException.h"
+#include "openmm/internal/ThreadPool.h"
 #include "openmm/reference/SimTKOpenMMRealType.h"
 #include <gtest/gtest.h>
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <thread>
+#if defined(__unix__) || defined(__APPLE__)
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#endif
 
 using namespace RigidLangevinPlugin;
 using namespace ResistanceTestHelpers;
@@ -145,14 +153,17 @@ TEST(RotnePragerYamakawa, ContinuousSymmetricAndPositiveDefinite) {
 
 TEST(ParallelCholesky, MatchesEigensLLT) {
     // Small blocks so that every part of the driver runs, sizes that are and are not multiples of
-    // them. Same arithmetic up to summation order: 1e-13 relative (the matrix is well conditioned).
+    // them, on the calling thread and on a pool of three. Same arithmetic up to summation order:
+    // 1e-13 relative (the matrix is well conditioned).
     std::mt19937 random(3);
-    for (int n : {1, 64, 301}) {
+    OpenMM::ThreadPool threads(3);
+    for (int n : {1, 64, 301})
+      for (OpenMM::ThreadPool* pool : {(OpenMM::ThreadPool*) nullptr, &threads}) {
         MatrixXd g = MatrixXd::NullaryExpr(n, n, [&]() { return std::normal_distribution<double>()(random); });
         MatrixXd spd = g*g.transpose()+n*MatrixXd::Identity(n, n);
         MatrixXd factor = spd;
         factor.triangularView<Eigen::StrictlyUpper>().setConstant(std::nan(""));  // must not be read
-        ASSERT_TRUE(parallelCholeskyInPlace(factor, 16, 32));
+        ASSERT_TRUE(parallelCholeskyInPlace(factor, pool, 16, 32));
         MatrixXd expected = Eigen::LLT<MatrixXd>(spd).matrixL();
         MatrixXd lower = factor.triangularView<Eigen::Lower>();
         EXPECT_LT((lower-expected).norm(), 1e-13*expected.norm()) << "n = " << n;
@@ -165,7 +176,7 @@ TEST(ParallelCholesky, MatchesEigensLLT) {
     // An indefinite matrix is reported, whichever block holds the negative pivot.
     MatrixXd indefinite = MatrixXd::Identity(100, 100);
     indefinite(70, 70) = -1;
-    EXPECT_FALSE(parallelCholeskyInPlace(indefinite, 16, 32));
+    EXPECT_FALSE(parallelCholeskyInPlace(indefinite, &threads, 16, 32));
 }
 
 TEST(ResistanceTensor, BeadsAgainstBruteForceInverse) {
@@ -380,10 +391,43 @@ TEST(ResistanceTensor, PivotedFallbackForASingularMobility) {
     double radii[2] = {a, a};
     double origin[3] = {0.1, 0.2, 0.3};
     double values[36];
-    EXPECT_EQ(BEAD_KERNEL_LDLT, rigidLangevinBeadResistanceGeneric(2, positions, radii, origin, values));
+    EXPECT_EQ(BEAD_KERNEL_LDLT, rigidLangevinBeadResistanceGeneric(2, positions, radii, origin, 1, values));
     for (int k = 0; k < 3; k++)
         EXPECT_NEAR(6*M_PI*a, values[7*k], 1e-10*6*M_PI*a);
 }
+
+#if defined(__unix__) || defined(__APPLE__)
+TEST(ResistanceTensor, ForkAfterComputingDoesNotHang) {
+    // A process that computed a tensor and then forks (Python's multiprocessing) must be able to
+    // compute in the child. With GCC's OpenMP runtime the child would wait forever for the
+    // parent's worker threads; the kernel's ThreadPool lives only during one computation. Large
+    // enough to use threads; the child gets 60 s for what takes well under one.
+    std::mt19937 random(17);
+    vector<Vec3> positions;
+    vector<double> radii;
+    randomBeads(300, 8.0, 0.0, random, positions, radii);
+    Matrix6 parent = toMatrix6(ResistanceTensor::beads(positions, radii).getMatrix());
+    pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        Matrix6 again = toMatrix6(ResistanceTensor::beads(positions, radii).getMatrix());
+        _exit(relativeDifference(again, parent) < 1e-12 ? 0 : 1);
+    }
+    int status = 0;
+    bool finished = false;
+    for (int i = 0; i < 600 && !finished; i++) {
+        finished = (waitpid(child, &status, WNOHANG) == child);
+        if (!finished)
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    if (!finished) {
+        kill(child, SIGKILL);
+        waitpid(child, &status, 0);
+    }
+    EXPECT_TRUE(finished) << "the forked child hung computing a tensor";
+    EXPECT_TRUE(finished && WIFEXITED(status) && WEXITSTATUS(status) == 0);
+}
+#endif
 
 TEST(ResistanceTensor, BeadsRejectBadInput) {
     const double nan = std::numeric_limits<double>::quiet_NaN();

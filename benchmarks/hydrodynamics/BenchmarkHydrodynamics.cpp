@@ -32,9 +32,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include <vector>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 using namespace RigidLangevinPlugin;
 using OpenMM::Vec3;
@@ -212,12 +209,9 @@ int main(int argc, char** argv) {
         return 1;
     }
 #endif
-    int threads = 1;
-#ifdef _OPENMP
-    threads = omp_get_max_threads();
-#endif
+    int threads = BeadHydrodynamics::getNumThreads();
     bool avx2 = BeadHydrodynamics::isAVX2KernelAvailable();
-    printf("Resistance tensors of rough shells of a banana-like molecule; %d OpenMP thread(s); kernel: %s; peer: B.inverse() compiled with the same flags; fastest of %d\n",
+    printf("Resistance tensors of rough shells of a banana-like molecule; %d thread(s); kernel: %s; peer: B.inverse() compiled with the same flags; fastest of %d\n",
            threads, avx2 ? "AVX2/FMA" : "baseline", repeat);
     printf("%7s %10s %10s %12s %12s %8s %10s %12s\n", "beads", "seconds", "peak MiB", "peer s", "peer MiB", "speedup", "max diff", "baseline s");
     std::ofstream csv(csvPath);

@@ -48,9 +48,9 @@ public:
      * A rigid assembly of spherical beads with hydrodynamic interaction: the generalised
      * Rotne-Prager-Yamakawa mobility of Zuk et al. (J. Fluid Mech. 741, R5 (2014)), which holds for
      * beads of different sizes, overlapping and nested ones included, with self mobility
-     * 1/(6 pi r_i). The 3N x 3N mobility matrix is Cholesky-factorised, not inverted, on all the
-     * cores OpenMP is given (OMP_NUM_THREADS): 2000 beads take about a second and 5000 about 15 s
-     * on two cores, in 72 N^2 bytes (about half of them touched).
+     * 1/(6 pi r_i). The 3N x 3N mobility matrix is Cholesky-factorised, not inverted, on all cores
+     * (OPENMM_CPU_THREADS sets how many): on two cores 2000 beads take about a second and 5000
+     * about 13 s, in 72 N^2 bytes (about half of them touched).
      *
      * correctionVolume is V (nm^3) in the volume correction +6 V I on the rotational block
      * (Garcia de la Torre & Rodes 1983; Carrasco & Garcia de la Torre 1999): bead models miss the

@@ -3,9 +3,11 @@
 #include "openmm/OpenMMException.h"
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iostream>
 #include <numeric>
 #include <sstream>
+#include <thread>
 #if defined(__unix__) || defined(__APPLE__)
 #include <unistd.h>
 #endif
@@ -52,6 +54,16 @@ BeadResistanceKernel chooseKernel(BeadHydrodynamics::Kernel kernel) {
 }
 
 } // namespace
+
+int BeadHydrodynamics::getNumThreads() {
+    const char* setting = std::getenv("OPENMM_CPU_THREADS");
+    if (setting != nullptr) {
+        int threads = std::atoi(setting);
+        if (threads > 0)
+            return threads;
+    }
+    return std::max(1u, std::thread::hardware_concurrency());
+}
 
 bool BeadHydrodynamics::isAVX2KernelAvailable() {
 #ifdef RIGIDLANGEVIN_HAVE_AVX2_KERNEL
@@ -109,7 +121,7 @@ Matrix6 BeadHydrodynamics::resistance(const string& caller, const vector<Vec3>& 
             flat[3*i+k] = positions[i][k];
     double center[3] = {origin[0], origin[1], origin[2]};
     double values[36];
-    int result = solve(numBeads, flat.data(), radii.data(), center, values);
+    int result = solve(numBeads, flat.data(), radii.data(), center, getNumThreads(), values);
     if (result == BEAD_KERNEL_OUT_OF_MEMORY)
         throw OpenMMException(caller+": out of memory: a model of "+std::to_string(numBeads)+" beads needs "+std::to_string(bytes/(1 << 30))+" GiB for its mobility matrix; use fewer beads");
     if (result == BEAD_KERNEL_FAILED)

@@ -14,8 +14,8 @@ namespace RigidLangevinPlugin {
  * bead velocities are B f for bead forces f, with B the 3N x 3N generalised Rotne-Prager-Yamakawa
  * mobility (see RotnePragerYamakawa.h), and Xi = P^T B^-1 P with P the 3N x 6 matrix of rigid
  * motions. B is Cholesky-factorised and solved for the six columns of P; it is never inverted.
- * Cost: 9 N^2/2 doubles of memory (plus half as many again that Eigen does not use) and
- * 9 N^3 flops.
+ * Cost: 9 N^2 doubles of memory allocated, of which the half that holds the lower triangle is
+ * touched, and 9 N^3 flops.
  */
 namespace BeadHydrodynamics {
 
@@ -28,6 +28,13 @@ enum Kernel {
     /** The AVX2/FMA build; throws if it is unavailable (see isAVX2KernelAvailable()). */
     AVX2Kernel
 };
+
+/**
+ * How many threads the kernel uses: the environment variable OPENMM_CPU_THREADS if it is set to a
+ * positive number (as for OpenMM's CPU platform), otherwise the number of logical cores. The
+ * threads live only while a tensor is computed.
+ */
+OPENMM_EXPORT_RIGIDLANGEVIN int getNumThreads();
 
 /** Whether the AVX2 kernel was built and this CPU (and operating system) can run it. */
 OPENMM_EXPORT_RIGIDLANGEVIN bool isAVX2KernelAvailable();

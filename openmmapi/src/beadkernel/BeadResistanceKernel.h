@@ -30,18 +30,20 @@ extern "C" {
  * positions    3N coordinates (nm): x, y, z of bead 0, then of bead 1, ...
  * radii        N radii (nm), all positive
  * origin       3 coordinates of the point the tensor refers to
+ * numThreads   how many threads to use (1: only the calling thread)
  * resistance   out: 36 values, row-major, in the convention of ResistanceTensor
  *
- * The inputs must have been checked (finite, positive radii, no two beads coincident).
+ * The inputs must have been checked (finite, positive radii, no two beads coincident). Returns a
+ * BeadKernelResult.
  */
 typedef int (*BeadResistanceKernel)(int numBeads, const double* positions, const double* radii,
-                                    const double* origin, double* resistance);
+                                    const double* origin, int numThreads, double* resistance);
 
 int rigidLangevinBeadResistanceGeneric(int numBeads, const double* positions, const double* radii,
-                                       const double* origin, double* resistance);
+                                       const double* origin, int numThreads, double* resistance);
 
 int rigidLangevinBeadResistanceAVX2(int numBeads, const double* positions, const double* radii,
-                                    const double* origin, double* resistance);
+                                    const double* origin, int numThreads, double* resistance);
 
 }
 
