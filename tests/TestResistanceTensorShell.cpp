@@ -160,6 +160,7 @@ TEST(ShellModel, RejectsBadInput) {
         EXPECT_THROW(ResistanceTensor::roughShell(centres, radii, bad), OpenMMException);
         expectThrowMentioning([&] { ResistanceTensor::roughShellBeads(centres, radii, bad); }, {"bead radius"});
     }
+    expectThrowMentioning([&] { ResistanceTensor::roughShellBeads(centres, radii, 1e-7); }, {"larger bead radius"});
     expectThrowMentioning([&] { ResistanceTensor::roughShell({Vec3(0, 0, 0), Vec3(nan, 0, 0)}, radii, 0.02); }, {"roughShell", "sphere (atom) 1"});
     expectThrowMentioning([&] { ResistanceTensor::shellExtrapolated(centres, {0.2, 0.0}); }, {"shellExtrapolated", "sphere (atom) 1", "radius"});
     expectThrowMentioning([&] { ResistanceTensor::shellExtrapolated({}, {}); }, {"no spheres"});

@@ -75,9 +75,9 @@ public:
      * A rough shell model of a molecule: the surface of the union of its atoms' spheres (centres
      * positions, radii radii) tiled with beads of radius beadRadius whose centres lie on that
      * surface, about 3 beadRadius apart (see roughShellBeads()), solved as in beads() without
-     * volume correction. The result
-     * is that of a finite bead size, larger than the molecule's own by a relative amount of order
-     * beadRadius/size; shellExtrapolated() removes that. Its origin is the atoms' centroid.
+     * volume correction. The result is that of a finite bead size, larger than the molecule's own
+     * by a relative amount of order beadRadius/size; shellExtrapolated() removes that. Its origin
+     * is the atoms' centroid.
      */
     static ResistanceTensor roughShell(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, double beadRadius);
     /** The bead centres of roughShell(positions, radii, beadRadius); every bead has radius beadRadius. */
@@ -89,8 +89,8 @@ public:
      * tensor (about the atoms' centroid) fitted by a straight line in the bead radius and taken at
      * zero bead radius, as Garcia de la Torre's HYDRO codes do. It takes about twice as long as
      * beads() on the largest shell: well under a second at 1000 beads, a few seconds at 2000. At
-     * the default 2000 it reproduces a sphere, prolate spheroids of axial ratio 2 and 5 and two
-     * touching spheres to 0.5% or better (1% at 1000 beads). Its origin is the atoms' centroid.
+     * the default 2000 it reproduced a sphere, prolate spheroids of axial ratio 2 and 5 and two
+     * touching spheres to within 0.5% (1% at 1000 beads). Its origin is the atoms' centroid.
      * Throws if an atom is invalid or if the extrapolated tensor is not positive definite.
      */
     static ResistanceTensor shellExtrapolated(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii,

@@ -19,11 +19,17 @@ namespace {
  * Distance between neighbouring bead centres, in bead radii: a gap of one bead radius between
  * beads. Touching beads (2) are the classical choice, but the shell's error then has a larger
  * quadratic part: measured on a sphere and on spheroids of axial ratio 2 and 5 at 500-2000 beads,
- * the linear extrapolation is two to three times closer to Stokes and Perrin at 3 than at 2 for the
- * same number of beads (for rotation at 1000 beads: within 0.7% instead of 2.3%), and it converges to the
- * same limit.
+ * the linear extrapolation is two to three times closer to Stokes and Perrin at 3 than at 2 for
+ * the same number of beads (for rotation at 1000 beads: within 0.7% instead of 2.3%), and it
+ * converges to the same limit.
  */
 const double BEAD_SPACING = 3.0;
+
+/**
+ * More beads than any bead model can be solved with (72 N^2 bytes: 7 TB at 1e7 beads); a tiling
+ * that would exceed it comes from a bead radius far too small for the surface.
+ */
+const double MAX_TILING_BEADS = 1e7;
 
 /** Points of the meridian arc-length table: far finer than any tiling needs. */
 const int ARC_TABLE_SIZE = 4096;
@@ -92,12 +98,17 @@ vector<Vec3> ShellModel::tileSpheroid(double a, double b, double beadRadius) {
         arc[i+1] = arc[i]+dt/6*(speed(t)+4*speed(t+dt/2)+speed(t+dt));
     }
     const double length = arc.back();
+    // The surface area is below the meridian's length times the circumference 2 pi b.
+    double estimate = length*2*M_PI*b/((BEAD_SPACING*beadRadius)*(BEAD_SPACING*beadRadius));
+    if (estimate > MAX_TILING_BEADS)
+        throw OpenMMException("ShellModel::tileSpheroid: a bead radius of "+std::to_string(beadRadius)+" nm would cover a surface of semi-axes "+std::to_string(a)+
+                " and "+std::to_string(b)+" nm with about "+std::to_string(estimate)+" beads, far more than can be solved; use a larger bead radius");
     const int numRings = std::max(1L, std::lround(length/(BEAD_SPACING*beadRadius)));
     vector<Vec3> beads;
     int interval = 0;
     for (int ring = 0; ring < numRings; ring++) {
         double s = (ring+0.5)*length/numRings;
-        while (arc[interval+1] < s)
+        while (interval+1 < ARC_TABLE_SIZE && arc[interval+1] < s)
             interval++;
         double t = (interval+(s-arc[interval])/(arc[interval+1]-arc[interval]))*dt;
         double x = a*std::cos(t), rho = b*std::sin(t);
