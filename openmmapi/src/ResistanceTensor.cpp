@@ -1,6 +1,10 @@
 #include "ResistanceTensor.h"
+#include "internal/BeadHydrodynamics.h"
+#include "internal/PerrinFriction.h"
 #include "internal/ResistanceMath.h"
+#include "internal/ShellModel.h"
 #include "openmm/OpenMMException.h"
+#include "openmm/reference/SimTKOpenMMRealType.h"
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <cmath>
@@ -59,6 +63,107 @@ ResistanceTensor ResistanceTensor::sphere(double radius, const Vec3& center) {
     return t;
 }
 
+namespace {
+
+ResistanceTensor diagonal(const PerrinFriction::PrincipalFriction& f, const Vec3& center) {
+    vector<double> m(36, 0.0);
+    for (int i = 0; i < 3; i++) {
+        m[7*i] = f.translation[i];
+        m[7*(i+3)] = f.rotation[i];
+    }
+    return ResistanceTensor::fromMatrix(m, center);
+}
+
+Vec3 centroid(const vector<Vec3>& positions) {
+    Vec3 sum;
+    for (const Vec3& p : positions)
+        sum += p;
+    return sum/(double) positions.size();
+}
+
+void checkBeadRadius(const std::string& caller, double beadRadius) {
+    if (!(beadRadius > 0) || !std::isfinite(beadRadius))
+        throw OpenMMException(caller+": the shell's bead radius is "+std::to_string(beadRadius)+"; it must be positive and finite (nm)");
+}
+
+void checkCenter(const std::string& caller, const Vec3& center) {
+    if (!std::isfinite(center[0]) || !std::isfinite(center[1]) || !std::isfinite(center[2]))
+        throw OpenMMException(caller+": the centre must have finite coordinates");
+}
+
+} // namespace
+
+ResistanceTensor ResistanceTensor::ellipsoid(double a, double b, double c, const Vec3& center) {
+    checkCenter("ResistanceTensor::ellipsoid", center);
+    return diagonal(PerrinFriction::ellipsoid(a, b, c), center);
+}
+
+ResistanceTensor ResistanceTensor::spheroid(double a, double b, const Vec3& center) {
+    checkCenter("ResistanceTensor::spheroid", center);
+    return diagonal(PerrinFriction::spheroid(a, b), center);
+}
+
+ResistanceTensor ResistanceTensor::beads(const vector<Vec3>& positions, const vector<double>& radii, double correctionVolume) {
+    const std::string caller = "ResistanceTensor::beads";
+    if (!(correctionVolume >= 0) || !std::isfinite(correctionVolume))
+        throw OpenMMException(caller+": the correction volume is "+std::to_string(correctionVolume)+"; it must be zero (no correction) or a positive volume (nm^3)");
+    BeadHydrodynamics::validate(caller, positions, radii);
+    Vec3 origin = centroid(positions);
+    Matrix6 xi = BeadHydrodynamics::resistance(caller, positions, radii, origin);
+    // The rotational friction of the filled volume, 6 eta V per unit viscosity; it does not
+    // depend on the origin, so it can be added here.
+    xi.block<3, 3>(3, 3) += 6*correctionVolume*Eigen::Matrix3d::Identity();
+    ResistanceTensor t;
+    fromMatrix6(xi, t.values);
+    t.origin = origin;
+    return t;
+}
+
+double ResistanceTensor::beadVolume(const vector<double>& radii) {
+    double volume = 0;
+    for (int i = 0; i < (int) radii.size(); i++) {
+        if (!(radii[i] >= 0) || !std::isfinite(radii[i]))
+            throw OpenMMException("ResistanceTensor::beadVolume: bead "+std::to_string(i)+" has radius "+std::to_string(radii[i])+"; radii must be non-negative and finite");
+        volume += 4*M_PI/3*radii[i]*radii[i]*radii[i];
+    }
+    return volume;
+}
+
+vector<Vec3> ResistanceTensor::roughShellBeads(const vector<Vec3>& positions, const vector<double>& radii, double beadRadius) {
+    ShellModel::validateSpheres("ResistanceTensor::roughShellBeads", positions, radii);
+    checkBeadRadius("ResistanceTensor::roughShellBeads", beadRadius);
+    return ShellModel::tileSphereUnion(positions, radii, beadRadius);
+}
+
+ResistanceTensor ResistanceTensor::roughShell(const vector<Vec3>& positions, const vector<double>& radii, double beadRadius) {
+    ShellModel::validateSpheres("ResistanceTensor::roughShell", positions, radii);
+    checkBeadRadius("ResistanceTensor::roughShell", beadRadius);
+    vector<Vec3> shell = ShellModel::tileSphereUnion(positions, radii, beadRadius);
+    ResistanceTensor t;
+    t.origin = centroid(positions);
+    fromMatrix6(BeadHydrodynamics::resistance("ResistanceTensor::roughShell", shell, vector<double>(shell.size(), beadRadius), t.origin), t.values);
+    return t;
+}
+
+ResistanceTensor ResistanceTensor::shellExtrapolated(const vector<Vec3>& positions, const vector<double>& radii, int maxBeads, int numResolutions) {
+    const std::string caller = "ResistanceTensor::shellExtrapolated";
+    ShellModel::validateSpheres(caller, positions, radii);
+    ShellModel::Tiling tiling = [&](double sigma) { return ShellModel::tileSphereUnion(positions, radii, sigma); };
+    double area = 0;  // the spheres' total area: at least the union's, a fine first guess
+    for (double r : radii)
+        area += 4*M_PI*r*r;
+    ResistanceTensor t;
+    t.origin = centroid(positions);
+    Matrix6 xi = ShellModel::extrapolated(caller, tiling, area, t.origin, maxBeads, numResolutions);
+    // Every shell is positive definite, but a straight line through shells too coarse for the
+    // molecule's detail need not be.
+    if (Eigen::LLT<Matrix6>(xi).info() != Eigen::Success)
+        throw OpenMMException(caller+": the tensor extrapolated to zero bead size is not positive definite: shells of at most "+std::to_string(maxBeads)+
+                " beads are too coarse for this molecule; raise maxBeads");
+    fromMatrix6(xi, t.values);
+    return t;
+}
+
 ResistanceTensor ResistanceTensor::freeDrainingBeads(const vector<Vec3>& positions, const vector<double>& radii) {
     if (positions.size() != radii.size())
         throw OpenMMException("ResistanceTensor::freeDrainingBeads: got "+std::to_string(positions.size())+" positions but "+std::to_string(radii.size())+" radii");
@@ -96,6 +201,31 @@ vector<double> ResistanceTensor::getMatrix() const {
 
 Vec3 ResistanceTensor::getCenterOfResistance() const {
     return origin+toVec3(centerOfResistance(toMatrix(values)));
+}
+
+Vec3 ResistanceTensor::getCenterOfDiffusion() const {
+    Matrix6 xi = toMatrix(values);
+    if (xi.llt().info() != Eigen::Success)
+        throw OpenMMException("ResistanceTensor::getCenterOfDiffusion: the resistance tensor is singular (is the body linear, or the tensor empty?), so it has no diffusion tensor");
+    return origin+toVec3(centerOfDiffusion(xi));
+}
+
+vector<double> ResistanceTensor::getDiffusionTensor(double temperature, double viscosity) const {
+    return getDiffusionTensor(temperature, viscosity, origin);
+}
+
+vector<double> ResistanceTensor::getDiffusionTensor(double temperature, double viscosity, const Vec3& point) const {
+    const std::string caller = "ResistanceTensor::getDiffusionTensor";
+    if (!(temperature > 0) || !std::isfinite(temperature))
+        throw OpenMMException(caller+": the temperature is "+std::to_string(temperature)+"; it must be positive and finite (K)");
+    if (!(viscosity > 0) || !std::isfinite(viscosity))
+        throw OpenMMException(caller+": the viscosity is "+std::to_string(viscosity)+"; it must be positive and finite (amu/(nm ps); 1 cP = 602.214)");
+    Matrix6 xi = moveOrigin(toMatrix(values), toEigen(point-origin));
+    Eigen::LLT<Matrix6> llt(xi);
+    if (!xi.allFinite() || llt.info() != Eigen::Success)
+        throw OpenMMException(caller+": the resistance tensor is not positive definite (is the body linear, with no friction about its axis, or the tensor empty?), so its diffusion tensor is infinite");
+    Matrix6 d = llt.solve((BOLTZ*temperature/viscosity)*Matrix6::Identity());
+    return toVector(0.5*(d+d.transpose()));
 }
 
 ResistanceTensor ResistanceTensor::rotated(const vector<double>& rotation) const {
