@@ -72,6 +72,12 @@ public:
     /** The sum of the volumes 4/3 pi r^3 of beads with these radii (nm^3). */
     static double beadVolume(const std::vector<double>& radii);
     /**
+     * The volume of the union of spheres (nm^3): of a molecule whose atoms overlap, say. Exact along
+     * lines parallel to x, integrated over a grid of such lines fine enough for about 0.1%. The
+     * volume correction of a filling bead model whose beads overlap takes this, not beadVolume().
+     */
+    static double unionVolume(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii);
+    /**
      * A rough shell model of a molecule: the surface of the union of its atoms' spheres (centres
      * positions, radii radii) tiled with beads of radius beadRadius whose centres lie on that
      * surface, about 3 beadRadius apart (see roughShellBeads()), solved as in beads() without

@@ -7,6 +7,7 @@
 #include "openmm/reference/SimTKOpenMMRealType.h"
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -263,4 +264,57 @@ void ResistanceTensor::validate(const std::string& what) const {
     Eigen::LLT<Matrix6> llt(0.5*(m+m.transpose()));
     if (scale == 0 || llt.info() != Eigen::Success)
         throw OpenMMException(what+": the resistance tensor is not positive definite; every rigid motion must dissipate energy");
+}
+
+double ResistanceTensor::unionVolume(const vector<Vec3>& positions, const vector<double>& radii) {
+    if (positions.size() != radii.size() || positions.empty())
+        throw OpenMMException("ResistanceTensor::unionVolume: needs as many radii as positions, and at least one sphere");
+    // Along each line parallel to x through a grid of (y, z) columns the spheres cover a union of
+    // intervals whose length is exact; the midpoint rule over the columns then integrates a
+    // continuous function, accurate to about 0.1% with ~40 columns across the smallest sphere.
+    double lowY = positions[0][1], highY = lowY, lowZ = positions[0][2], highZ = lowZ, smallest = radii[0];
+    for (int i = 0; i < (int) positions.size(); i++) {
+        if (!(radii[i] > 0) || !std::isfinite(radii[i]))
+            throw OpenMMException("ResistanceTensor::unionVolume: sphere "+std::to_string(i)+" has radius "+std::to_string(radii[i])+"; radii must be positive and finite");
+        lowY = std::min(lowY, positions[i][1]-radii[i]);
+        highY = std::max(highY, positions[i][1]+radii[i]);
+        lowZ = std::min(lowZ, positions[i][2]-radii[i]);
+        highZ = std::max(highZ, positions[i][2]+radii[i]);
+        smallest = std::min(smallest, radii[i]);
+    }
+    double spacing = std::max(smallest/40, std::max(highY-lowY, highZ-lowZ)/600);
+    int ny = (int) std::ceil((highY-lowY)/spacing), nz = (int) std::ceil((highZ-lowZ)/spacing);
+    vector<vector<std::pair<double, double> > > columns((size_t) ny*nz);
+    for (int i = 0; i < (int) positions.size(); i++) {
+        double r2 = radii[i]*radii[i];
+        int y0 = std::max(0, (int) std::floor((positions[i][1]-radii[i]-lowY)/spacing));
+        int y1 = std::min(ny-1, (int) std::floor((positions[i][1]+radii[i]-lowY)/spacing));
+        int z0 = std::max(0, (int) std::floor((positions[i][2]-radii[i]-lowZ)/spacing));
+        int z1 = std::min(nz-1, (int) std::floor((positions[i][2]+radii[i]-lowZ)/spacing));
+        for (int y = y0; y <= y1; y++)
+            for (int z = z0; z <= z1; z++) {
+                double dy = lowY+(y+0.5)*spacing-positions[i][1], dz = lowZ+(z+0.5)*spacing-positions[i][2];
+                double h2 = r2-dy*dy-dz*dz;
+                if (h2 > 0) {
+                    double h = std::sqrt(h2);
+                    columns[(size_t) y*nz+z].push_back(std::make_pair(positions[i][0]-h, positions[i][0]+h));
+                }
+            }
+    }
+    double area = 0;
+    for (vector<std::pair<double, double> >& intervals : columns) {
+        if (intervals.empty())
+            continue;
+        std::sort(intervals.begin(), intervals.end());
+        double start = intervals[0].first, end = intervals[0].second;
+        for (const std::pair<double, double>& interval : intervals) {
+            if (interval.first > end) {
+                area += end-start;
+                start = interval.first;
+            }
+            end = std::max(end, interval.second);
+        }
+        area += end-start;
+    }
+    return area*spacing*spacing;
 }

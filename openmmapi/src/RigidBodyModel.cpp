@@ -248,13 +248,20 @@ Matrix6 RigidBodyModel::bodyFrameResistance(int body, const vector<Vec3>& offset
         Matrix6 xi = Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor> >(lab.getMatrix(centre).data());
         return rotate(xi, q);
     }
+    // The default model: the particles with a radius as Rotne-Prager-Yamakawa beads (overlapping
+    // ones too), with the volume correction of a filling model, V the volume of their union. One
+    // particle is a Stokes sphere.
     vector<Vec3> beads;
     vector<double> radii;
-    for (int i = 0; i < (int) particles.size(); i++) {
-        beads.push_back(toVec3(q*toEigen(offsets[i])));
-        radii.push_back(particleRadius[particles[i]]);
-    }
-    ResistanceTensor model = ResistanceTensor::freeDrainingBeads(beads, radii);
+    for (int i = 0; i < (int) particles.size(); i++)
+        if (particleRadius[particles[i]] > 0) {
+            beads.push_back(toVec3(q*toEigen(offsets[i])));
+            radii.push_back(particleRadius[particles[i]]);
+        }
+    if (beads.empty())
+        throw OpenMMException("RigidLangevinIntegrator: "+bodyName(body, numUserBodies, particles)+" has no particle with a hydrodynamic radius; "
+                "set radii with setParticleRadius() or give it an explicit tensor");
+    ResistanceTensor model = ResistanceTensor::beads(beads, radii, ResistanceTensor::unionVolume(beads, radii));
     return Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor> >(model.getMatrix(Vec3()).data());
 }
 

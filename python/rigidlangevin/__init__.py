@@ -11,6 +11,7 @@ from .core import RigidLangevinIntegrator, ResistanceTensor
 from ._units import poise, centipoise, md_viscosity
 from .topology import addRigidBodies
 from .reporters import RigidBodyTemperatureReporter
+from . import hydrodynamics
 
 __all__ = ['RigidLangevinIntegrator', 'ResistanceTensor', 'poise', 'centipoise', 'md_viscosity', 'addRigidBodies',
-           'RigidBodyTemperatureReporter']
+           'RigidBodyTemperatureReporter', 'hydrodynamics']
