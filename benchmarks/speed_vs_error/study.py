@@ -271,7 +271,7 @@ def run_free_bodies(task):
     times = []
     for k in range(3):
         times.append(obs.correlation_time([a[:, :, k] for a in axes], dt, samples//2))
-    lag1, lag2 = int(round(2*tau/dt)), int(round(6*tau/dt))
+    lag1, lag2 = min(int(round(2*tau/dt)), samples//4), min(int(round(6*tau/dt)), samples//2)
     return {'status': 'ok', 'T translational (K)': np.mean(t_trans), 'T translational (K) +-': block_error(t_trans),
             'T rotational (K)': np.mean(t_rot), 'T rotational (K) +-': block_error(t_rot),
             'D translational (nm^2/ps)': obs.diffusion_from_msd(centers, dt, lag1, lag2),
@@ -317,9 +317,13 @@ def errors(measured, truth):
         if key not in measured or measured.get('status') != 'ok':
             continue
         if key in ('O-O RDF', 'VACF'):
-            e[key] = float(np.sqrt(np.mean((np.asarray(measured[key])-np.asarray(value))**2)))
+            error = float(np.sqrt(np.mean((np.asarray(measured[key])-np.asarray(value))**2)))
         elif np.isscalar(value):
-            e[key] = abs(measured[key]-value)/abs(value)
+            error = abs(measured[key]-value)/abs(value)
+        else:
+            continue
+        if np.isfinite(error):  # too short a run gives no diffusion, say
+            e[key] = error
     return e
 
 
