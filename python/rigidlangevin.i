@@ -29,6 +29,14 @@ int isNumpyAvailable() {
 using OpenMM::isNumpyAvailable;
 %}
 %include "swig/typemaps.i"
+
+/* A vector of Vec3 returned by value (OpenMM's typemaps cover references): a list of openmm.Vec3. */
+%typemap(out, fragment="Vec3_to_PyVec3") std::vector<Vec3> {
+    const std::vector<OpenMM::Vec3>& vectors = $1;
+    $result = PyList_New(vectors.size());
+    for (int i = 0; i < (int) vectors.size(); i++)
+        PyList_SET_ITEM($result, i, Vec3_to_PyVec3(vectors[i]));
+}
 %include <std_string.i>
 %include <std_vector.i>
 
@@ -71,6 +79,8 @@ namespace std {
 }
 
 namespace RigidLangevinPlugin {
+
+class ResistanceTensor;
 
 %pythonprepend RigidLangevinIntegrator::RigidLangevinIntegrator %{
     viscosity = _units.viscosity_value(viscosity)
@@ -129,10 +139,12 @@ public:
     int getNumRigidBodies() const;
     const std::vector<int>& getRigidBodyParticles(int index) const;
     void setBodyResistance(int index, const std::vector<double>& tensor, const Vec3& origin);
+    void setBodyHydrodynamics(int index, const ResistanceTensor& model);
     void clearBodyResistance(int index);
     void setParticleRadius(int particle, double radius);
     double getParticleRadius(int particle) const;
     int getNumDegreesOfFreedom() const;
+    int getNumBodyTypes() const;
     double computeSystemTemperature();
     double computeTranslationalTemperature();
     double computeRotationalTemperature();
@@ -208,6 +220,18 @@ public:
 %pythonappend ResistanceTensor::getCenterOfResistance %{
     val = unit.Quantity(val, unit.nanometer)
 %}
+%pythonappend ResistanceTensor::getCenterOfDiffusion %{
+    val = unit.Quantity(val, unit.nanometer)
+%}
+%pythonprepend ResistanceTensor::getDiffusionTensor %{
+    args = (args[0], _units.viscosity_value(args[1]))+tuple(args[2:])
+%}
+%pythonappend ResistanceTensor::getDiffusionTensor %{
+    val = _units.matrix6(val)
+%}
+%pythonappend ResistanceTensor::roughShellBeads %{
+    val = _units.vectors_in_nm(val)
+%}
 %pythonprepend ResistanceTensor::rotated %{
     rotation = _units.rotation_values(rotation)
 %}
@@ -218,11 +242,23 @@ public:
     ResistanceTensor();
     static ResistanceTensor fromMatrix(const std::vector<double>& matrix, const Vec3& origin);
     static ResistanceTensor sphere(double radius, const Vec3& center = Vec3());
+    static ResistanceTensor ellipsoid(double a, double b, double c, const Vec3& center = Vec3());
+    static ResistanceTensor spheroid(double a, double b, const Vec3& center = Vec3());
+    static ResistanceTensor beads(const std::vector<Vec3>& positions, const std::vector<double>& radii, double correctionVolume = 0);
+    static double beadVolume(const std::vector<double>& radii);
+    static double unionVolume(const std::vector<Vec3>& positions, const std::vector<double>& radii);
+    static ResistanceTensor roughShell(const std::vector<Vec3>& positions, const std::vector<double>& radii, double beadRadius);
+    static std::vector<Vec3> roughShellBeads(const std::vector<Vec3>& positions, const std::vector<double>& radii, double beadRadius);
+    static ResistanceTensor shellExtrapolated(const std::vector<Vec3>& positions, const std::vector<double>& radii,
+                                              int maxBeads = 2000, int numResolutions = 6);
     static ResistanceTensor freeDrainingBeads(const std::vector<Vec3>& positions, const std::vector<double>& radii);
     const Vec3& getOrigin() const;
     std::vector<double> getMatrix(const Vec3& origin) const;
     std::vector<double> getMatrix() const;
     Vec3 getCenterOfResistance() const;
+    Vec3 getCenterOfDiffusion() const;
+    std::vector<double> getDiffusionTensor(double temperature, double viscosity) const;
+    std::vector<double> getDiffusionTensor(double temperature, double viscosity, const Vec3& origin) const;
     ResistanceTensor rotated(const std::vector<double>& rotation) const;
     ResistanceTensor translated(const Vec3& displacement) const;
     ResistanceTensor scaled(double factor) const;

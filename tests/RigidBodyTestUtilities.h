@@ -233,6 +233,25 @@ struct Series {
     }
 };
 
+/**
+ * The standard deviation of the total energy sampled `samples` times, `every` steps apart: the
+ * energy error of a run without friction.
+ */
+inline double energyFluctuation(OpenMM::Context& context, OpenMM::Integrator& integrator, int every, int samples) {
+    std::vector<double> energy;
+    for (int i = 0; i < samples; i++) {
+        integrator.step(every);
+        OpenMM::State s = context.getState(OpenMM::State::Energy);
+        energy.push_back(s.getKineticEnergy()+s.getPotentialEnergy());
+    }
+    double mean = 0, square = 0;
+    for (double e : energy)
+        mean += e/samples;
+    for (double e : energy)
+        square += (e-mean)*(e-mean)/samples;
+    return std::sqrt(square);
+}
+
 /** Every body's state from a Context: positions and velocities of all particles. */
 inline void getParticles(OpenMM::Context& context, std::vector<Vec3>& pos, std::vector<Vec3>& vel) {
     OpenMM::State state = context.getState(OpenMM::State::Positions | OpenMM::State::Velocities);

@@ -3,6 +3,8 @@
  * never a crash, a NaN trajectory or a silent wrong answer.
  */
 #include "RigidBodyTestUtilities.h"
+#include "openmm/AndersenThermostat.h"
+#include "openmm/MonteCarloBarostat.h"
 #include "openmm/NonbondedForce.h"
 #include "openmm/OpenMMException.h"
 #include <gtest/gtest.h>
@@ -126,6 +128,24 @@ TEST_P(BadInputOnPlatform, BodiesAgainstTheSystem) {
         integrator.addRigidBody({0, 1});
         integrator.setParticleRadius(0, 0.1);
         expectError([&] {Context c(system, integrator, platform, config.properties());}, {"particle 1", "rigid body 0", "setParticleRadius"});
+    }
+    for (int kind = 0; kind < 2; kind++) {
+        // Forces that move particles or set velocities themselves would be silently undone.
+        System system = particles(2);
+        system.setDefaultPeriodicBoxVectors(Vec3(3, 0, 0), Vec3(0, 3, 0), Vec3(0, 0, 3));
+        if (kind == 0)
+            system.addForce(new MonteCarloBarostat(1.0, 300.0));
+        else
+            system.addForce(new AndersenThermostat(300.0, 1.0));
+        RigidLangevinIntegrator integrator(300, 1, 0.002);
+        integrator.setParticleRadius(0, 0.1);
+        integrator.setParticleRadius(1, 0.1);
+        NonbondedForce* periodic = new NonbondedForce();
+        periodic->setNonbondedMethod(NonbondedForce::CutoffPeriodic);
+        periodic->addParticle(0, 0.3, 0.5);
+        periodic->addParticle(0, 0.3, 0.5);
+        system.addForce(periodic);
+        expectError([&] {Context c(system, integrator, platform);}, {kind == 0 ? "barostat" : "AndersenThermostat", "force 0"});
     }
 }
 

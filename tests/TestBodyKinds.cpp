@@ -105,16 +105,7 @@ TEST_P(BodyKinds, LinearBodiesConserveEnergyWithoutFriction) {
         Context context(system, integrator, platform.get(), platform.properties());
         context.setPositions(positions);
         context.setVelocitiesToTemperature(300, 2);
-        Series energy;
-        for (int i = 0; i < 400; i++) {
-            integrator.step((int) std::round(0.005/h));
-            State s = context.getState(State::Energy);
-            energy.add(s.getKineticEnergy()+s.getPotentialEnergy());
-        }
-        double mean = energy.mean(), square = 0;
-        for (double e : energy.values)
-            square += (e-mean)*(e-mean)/energy.values.size();
-        deviation[run] = std::sqrt(square);
+        deviation[run] = energyFluctuation(context, integrator, (int) std::round(0.005/h), 400);
     }
     std::cout << "linear bodies: energy deviation " << deviation[0] << ", " << deviation[1] << " kJ/mol at h = 2, 1 fs" << std::endl;
     EXPECT_NEAR(4.0, deviation[0]/deviation[1], 0.5);
@@ -167,16 +158,7 @@ TEST_P(BodyKinds, MasslessSiteCarriesForceAndTorque) {
         context.setPositions(positions);
         context.setVelocitiesToTemperature(300, 4);
         EXPECT_EQ(6, integrator.getNumDegreesOfFreedom());
-        Series energy;
-        for (int i = 0; i < 400; i++) {
-            integrator.step((int) std::round(0.005/h));
-            State s = context.getState(State::Energy);
-            energy.add(s.getKineticEnergy()+s.getPotentialEnergy());
-        }
-        double mean = energy.mean(), square = 0;
-        for (double e : energy.values)
-            square += (e-mean)*(e-mean)/energy.values.size();
-        deviation[run] = std::sqrt(square);
+        deviation[run] = energyFluctuation(context, integrator, (int) std::round(0.005/h), 400);
         EXPECT_LT(maxDistanceChange(positions, context.getState(State::Positions).getPositions(), 0, 4), 1e-10);
         // The body moved: the tether pulled it.
         Vec3 moved = context.getState(State::Positions).getPositions()[3]-positions[3];

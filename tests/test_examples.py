@@ -1,4 +1,5 @@
 """The examples stay runnable: each is run briefly."""
+import csv
 import pathlib
 import subprocess
 import sys
@@ -28,3 +29,21 @@ def test_readme_python_quick_start():
     result = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True, timeout=300)
     assert result.returncode == 0, result.stderr
     assert 'K' in result.stdout
+
+
+def test_flagship_study_short_form(tmp_path):
+    # A few picoseconds of every run: the table, the heating curve (CSV and PNG) and timings appear.
+    result = subprocess.run([sys.executable, str(ROOT/'examples'/'flagship_water.py'), '--control-ps', '1', '--heating-ps', '0.4',
+                             '--equilibration-ps', '0.2', '--out', str(tmp_path)], capture_output=True, text=True, timeout=600)
+    assert result.returncode == 0, result.stderr
+    table = (tmp_path/'temperature_control.md').read_text().splitlines()
+    assert len(table) == 5 and '300.47' in table[2] and '303.04' in table[4]
+    rows = list(csv.DictReader(open(tmp_path/'temperature_control.csv')))
+    for row in rows:
+        assert 250 < float(row['<T> (K)']) < 350
+    heating = list(csv.reader(open(tmp_path/'heating_curve.csv')))
+    assert heating[0][1:] == ['RigidLangevin 0.1 P T (K)', 'NVE (zero viscosity) T (K)', 'Nose-Hoover 5 ps T (K)']
+    assert len(heating) == 10  # header, t = 0, then every 0.05 ps
+    assert (tmp_path/'heating_curve.png').stat().st_size > 10000
+    timings = list(csv.reader(open(tmp_path/'timings.csv')))
+    assert len(timings) == 7 and all(float(t[1]) > 0 for t in timings[1:])

@@ -10,6 +10,7 @@
 #include "openmm/Integrator.h"
 #include "openmm/Kernel.h"
 #include "openmm/Vec3.h"
+#include "ResistanceTensor.h"
 #include "internal/windowsExportRigidLangevin.h"
 #include <map>
 #include <vector>
@@ -46,8 +47,8 @@ namespace RigidLangevinPlugin {
  *
  * Bodies are defined before the Context is created. Their geometry is taken from the positions
  * first set on the Context; identical bodies (same masses, radii and shape up to rotation and
- * translation, within 1e-4 nm) share one set of precomputed matrices and the exact same shape.
- * Positions set later must agree with rigid placements of the bodies (within 1e-4 nm) and
+ * translation, within 1e-3 nm) share one set of precomputed matrices and the exact same shape.
+ * Positions set later must agree with rigid placements of the bodies (within 1e-3 nm) and
  * velocities are projected onto rigid motion.
  */
 class OPENMM_EXPORT_RIGIDLANGEVIN RigidLangevinIntegrator : public OpenMM::Integrator {
@@ -142,12 +143,23 @@ public:
      * @return true if the body has an explicit tensor
      */
     bool getBodyResistance(int index, std::vector<double>& tensor, OpenMM::Vec3& origin) const;
+    /**
+     * Give a body the friction of a hydrodynamic model (ResistanceTensor::ellipsoid(), beads(),
+     * shellExtrapolated(), ...), in the lab frame of the positions first set on the Context. The
+     * same as setBodyResistance() with the model's matrix and origin.
+     */
+    void setBodyHydrodynamics(int index, const ResistanceTensor& model);
     /** Remove the explicit resistance tensor of a body, so that it uses the default model again. */
     void clearBodyResistance(int index);
     /**
      * Set the hydrodynamic radius of a particle (nm). Without one, a particle with mass takes half the
      * sigma of its NonbondedForce Lennard-Jones parameters where epsilon is not zero; a massive particle
      * with neither is an error. Massless particles without a radius take no part in hydrodynamics.
+     *
+     * A body with several particles and no explicit tensor is a bead model of its particles with a
+     * radius: the Rotne-Prager-Yamakawa mobility of overlapping beads with the volume correction of a
+     * filling model, V the volume of the union of their spheres (ResistanceTensor::beads()). A
+     * single particle is a Stokes sphere. Identical bodies compute it once.
      */
     void setParticleRadius(int particle, double radius);
     /** Get the hydrodynamic radius set for a particle (nm), or -1 if none was set. */
@@ -163,6 +175,12 @@ public:
      * A CMMotionRemover does not change this count; computeSystemTemperature() accounts for it.
      */
     int getNumDegreesOfFreedom() const;
+    /**
+     * Get the number of body types: bodies with the same masses, radii, friction model and shape
+     * (up to a rotation, within 1e-3 nm) share one, and with it every precomputed matrix and one
+     * hydrodynamic calculation. Free particles count too. Needs a Context with positions.
+     */
+    int getNumBodyTypes() const;
     /**
      * Compute the instantaneous temperature of the system from the kinetic energy of all rigid
      * bodies and free particles and getNumDegreesOfFreedom(). If the System has a CMMotionRemover,

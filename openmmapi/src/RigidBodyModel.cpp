@@ -2,6 +2,11 @@
 #include "internal/ResistanceMath.h"
 #include "RigidLangevinIntegrator.h"
 #include "ResistanceTensor.h"
+#include "openmm/AndersenThermostat.h"
+#include "openmm/MonteCarloAnisotropicBarostat.h"
+#include "openmm/MonteCarloBarostat.h"
+#include "openmm/MonteCarloFlexibleBarostat.h"
+#include "openmm/MonteCarloMembraneBarostat.h"
 #include "openmm/NonbondedForce.h"
 #include "openmm/OpenMMException.h"
 #include <Eigen/Eigenvalues>
@@ -96,6 +101,19 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidLangevinIntegrat
             particleBody[p] = bodyParticles.size();
             bodyParticles.push_back({p});
         }
+
+    // Forces that move particles or set velocities behind the integrator's back would be undone by
+    // the next step, which places particles from the body states.
+    for (int i = 0; i < system.getNumForces(); i++) {
+        const Force& force = system.getForce(i);
+        if (dynamic_cast<const MonteCarloBarostat*>(&force) != NULL || dynamic_cast<const MonteCarloAnisotropicBarostat*>(&force) != NULL ||
+                dynamic_cast<const MonteCarloMembraneBarostat*>(&force) != NULL || dynamic_cast<const MonteCarloFlexibleBarostat*>(&force) != NULL)
+            throw OpenMMException("RigidLangevinIntegrator: the System has a Monte Carlo barostat (force "+std::to_string(i)+"); barostats move particles "
+                    "themselves, which rigid bodies cannot follow yet. Remove it and run at constant volume");
+        if (dynamic_cast<const AndersenThermostat*>(&force) != NULL)
+            throw OpenMMException("RigidLangevinIntegrator: the System has an AndersenThermostat (force "+std::to_string(i)+"); the integrator is "
+                    "its own thermostat. Remove the AndersenThermostat");
+    }
 
     // Constraints inside a body are satisfied by its rigidity; any other one cannot be honoured.
     for (int i = 0; i < system.getNumConstraints(); i++) {
@@ -230,13 +248,20 @@ Matrix6 RigidBodyModel::bodyFrameResistance(int body, const vector<Vec3>& offset
         Matrix6 xi = Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor> >(lab.getMatrix(centre).data());
         return rotate(xi, q);
     }
+    // The default model: the particles with a radius as Rotne-Prager-Yamakawa beads (overlapping
+    // ones too), with the volume correction of a filling model, V the volume of their union. One
+    // particle is a Stokes sphere.
     vector<Vec3> beads;
     vector<double> radii;
-    for (int i = 0; i < (int) particles.size(); i++) {
-        beads.push_back(toVec3(q*toEigen(offsets[i])));
-        radii.push_back(particleRadius[particles[i]]);
-    }
-    ResistanceTensor model = ResistanceTensor::freeDrainingBeads(beads, radii);
+    for (int i = 0; i < (int) particles.size(); i++)
+        if (particleRadius[particles[i]] > 0) {
+            beads.push_back(toVec3(q*toEigen(offsets[i])));
+            radii.push_back(particleRadius[particles[i]]);
+        }
+    if (beads.empty())
+        throw OpenMMException("RigidLangevinIntegrator: "+bodyName(body, numUserBodies, particles)+" has no particle with a hydrodynamic radius; "
+                "set radii with setParticleRadius() or give it an explicit tensor");
+    ResistanceTensor model = ResistanceTensor::beads(beads, radii, ResistanceTensor::unionVolume(beads, radii));
     return Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor> >(model.getMatrix(Vec3()).data());
 }
 

@@ -119,6 +119,10 @@ bool RigidLangevinIntegrator::getBodyResistance(int index, vector<double>& tenso
     return true;
 }
 
+void RigidLangevinIntegrator::setBodyHydrodynamics(int index, const ResistanceTensor& model) {
+    setBodyResistance(index, model.getMatrix(), model.getOrigin());
+}
+
 void RigidLangevinIntegrator::clearBodyResistance(int index) {
     checkNotBound("clearBodyResistance");
     checkBodyIndex(index, "clearBodyResistance");
@@ -193,6 +197,12 @@ int RigidLangevinIntegrator::getNumDegreesOfFreedom() const {
     if (context == NULL)
         throw OpenMMException("RigidLangevinIntegrator::getNumDegreesOfFreedom: this Integrator is not bound to a context (the count depends on the bodies' shapes)");
     return kernel.getAs<IntegrateRigidLangevinStepKernel>().getModel(*context).getNumDegreesOfFreedom();
+}
+
+int RigidLangevinIntegrator::getNumBodyTypes() const {
+    if (context == NULL)
+        throw OpenMMException("RigidLangevinIntegrator::getNumBodyTypes: this Integrator is not bound to a context");
+    return kernel.getAs<IntegrateRigidLangevinStepKernel>().getModel(*context).getNumTypes();
 }
 
 /** components: 1 translational, 2 rotational, 3 both. */

@@ -9,5 +9,9 @@ import openmm  # loads OpenMM and its plugins (this one's kernels among them) be
 
 from .core import RigidLangevinIntegrator, ResistanceTensor
 from ._units import poise, centipoise, md_viscosity
+from .topology import addRigidBodies
+from .reporters import RigidBodyTemperatureReporter
+from . import hydrodynamics
 
-__all__ = ['RigidLangevinIntegrator', 'ResistanceTensor', 'poise', 'centipoise', 'md_viscosity']
+__all__ = ['RigidLangevinIntegrator', 'ResistanceTensor', 'poise', 'centipoise', 'md_viscosity', 'addRigidBodies',
+           'RigidBodyTemperatureReporter', 'hydrodynamics']

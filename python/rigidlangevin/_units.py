@@ -58,3 +58,8 @@ def resistance_result(result):
     import openmm
     values, origin = result
     return matrix6(values), unit.Quantity(openmm.Vec3(*origin), unit.nanometer)
+
+
+def vectors_in_nm(vectors):
+    """A list of Vec3 (nm) as a Quantity-wrapped (N, 3) numpy array."""
+    return unit.Quantity(np.array([[v[0], v[1], v[2]] for v in vectors], dtype=float).reshape(-1, 3), unit.nanometer)

@@ -65,6 +65,22 @@ inline Eigen::Vector3d centerOfResistance(const Matrix6& xi) {
     return a.ldlt().solve(axial);
 }
 
+/**
+ * The centre of diffusion relative to the tensor's origin: the point where the coupling block of the
+ * diffusion tensor D ~ Xi^-1 is symmetric. Moving the origin by r takes the block giving angular
+ * velocity from force, Drt, to Drt + Drr skew(r) (D transforms with the inverse of the congruence
+ * that moves Xi), whose antisymmetric part vanishes where (tr(Drr) 1 - Drr) r equals minus the
+ * axial vector of Drt's. The overall scale of D (kT, viscosity) drops out.
+ */
+inline Eigen::Vector3d centerOfDiffusion(const Matrix6& xi) {
+    Matrix6 d = xi.llt().solve(Matrix6::Identity());
+    Eigen::Matrix3d rr = d.block<3, 3>(3, 3);
+    Eigen::Matrix3d rt = d.block<3, 3>(3, 0);
+    Eigen::Vector3d axial(rt(2, 1)-rt(1, 2), rt(0, 2)-rt(2, 0), rt(1, 0)-rt(0, 1));
+    Eigen::Matrix3d a = rr.trace()*Eigen::Matrix3d::Identity()-rr;
+    return a.ldlt().solve(-axial);
+}
+
 } // namespace ResistanceMath
 } // namespace RigidLangevinPlugin
 

@@ -73,7 +73,7 @@ struct BodyState {
 class OPENMM_EXPORT_RIGIDLANGEVIN RigidBodyModel {
 public:
     /** Positions that deviate more than this (nm) from a rigid placement of a body are an error. */
-    static constexpr double GeometryTolerance = 1e-4;
+    static constexpr double GeometryTolerance = 1e-3;
     /**
      * Check the integrator's body definitions against the System and resolve hydrodynamic radii.
      * Throws OpenMMException for bad input (indices, overlaps, massless bodies, constraints that

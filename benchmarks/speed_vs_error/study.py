@@ -1,0 +1,403 @@
+"""Speed against error: which integrator to use for rigid bodies in implicit solvent.
+
+For each scene, integrator and step size, measures the cost (ns/day, wall seconds per body per
+step) and the error of configurational and dynamical observables, and plots error against ns/day.
+
+Scenes
+  S1  free asymmetric bodies with a coupled 6x6 tensor about a point off the centre of mass: the
+      truth is exact (kinetic temperatures, kT (eta Xi)^-1 diffusion, Favro's orientational times,
+      the exact velocity autocorrelation).
+  S2  the flagship's 256 rigid TIP3P waters (PME 0.9 nm, LJ switched from 0.8 nm) at 0.01, 0.1 and
+      1 poise: the truth is a small-step (0.5 fs) ExactFlow reference run.
+Integrators: RigidLangevinIntegrator's ExactFlow, BAOAB and Original schemes, and OpenMM's
+LangevinMiddleIntegrator with SETTLE and per-atom friction giving the same translational friction.
+Also the largest stable step of each integrator per viscosity (1e5 steps of 64 rigid waters without
+blowing up).
+
+    python benchmarks/speed_vs_error/study.py                    # everything (~40 min on 2 cores)
+    mpirun -np 2 python benchmarks/speed_vs_error/study.py       # the same, runs spread over 2 ranks
+    python benchmarks/speed_vs_error/study.py --quick            # a few ps per run, to check it works
+
+Writes results to --out (default out/speed_vs_error): results.csv, stability.csv, table.md and
+error_vs_speed_*.png.
+"""
+import argparse
+import csv
+import math
+import os
+import pathlib
+import sys
+import time
+
+import numpy as np
+import openmm as mm
+import openmm.app as app
+import openmm.unit as unit
+
+import rigidlangevin as rl
+from rigidlangevin.ensemble import run_ensemble
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import observables as obs  # noqa: E402
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+TEMPERATURE = 300.0
+SCHEMES = {'ExactFlow': rl.RigidLangevinIntegrator.ExactFlow, 'BAOAB': rl.RigidLangevinIntegrator.BAOAB,
+           'Original': rl.RigidLangevinIntegrator.Original}
+INTEGRATORS = ['ExactFlow', 'BAOAB', 'Original', 'LangevinMiddle+SETTLE']
+WATER_SWITCH, WATER_CUTOFF = 0.8, 0.9
+
+
+# ---------------------------------------------------------------------------- scene S2: water
+def water_setup(waters_pdb, viscosity_poise, integrator_name, step_fs, seed, threads):
+    """A Context of rigid TIP3P water under the named integrator, and the molecule layout."""
+    pdb = app.PDBFile(str(waters_pdb))
+    forcefield = app.ForceField('tip3p.xml')
+    # The 64-water box of the stability study is too small for the 0.9 nm cutoff.
+    switch, cutoff = (WATER_SWITCH, WATER_CUTOFF) if waters_pdb.name == 'water256.pdb' else (0.5, 0.6)
+    system = forcefield.createSystem(pdb.topology, nonbondedMethod=app.PME, nonbondedCutoff=cutoff*unit.nanometer,
+                                     switchDistance=switch*unit.nanometer, rigidWater=True)
+    box = pdb.topology.getPeriodicBoxVectors()
+    if waters_pdb.name == 'water256.pdb':
+        box = [mm.Vec3(1.97166, 0, 0), mm.Vec3(0, 1.97166, 0), mm.Vec3(0, 0, 1.97166)]*unit.nanometer
+    system.setDefaultPeriodicBoxVectors(*box)
+    indices = [[a.index for a in r.atoms()] for r in pdb.topology.residues()]
+    molecules = obs.Molecules(indices, [system.getParticleMass(i)._value for i in indices[0]])
+    h = step_fs*1e-3
+    if integrator_name == 'LangevinMiddle+SETTLE':
+        # The same translational friction as the rigid body's: per-atom gamma = xi_t/M.
+        friction = translational_friction(pdb, system, indices[0], viscosity_poise)/molecules.mass
+        integrator = mm.LangevinMiddleIntegrator(TEMPERATURE, friction, h)
+    else:
+        integrator = rl.RigidLangevinIntegrator(TEMPERATURE*unit.kelvin, viscosity_poise*rl.poise, h*unit.picoseconds)
+        integrator.setScheme(SCHEMES[integrator_name])
+        rl.addRigidBodies(integrator, pdb.topology, system)
+    integrator.setRandomNumberSeed(seed)
+    platform = mm.Platform.getPlatformByName('CPU')
+    context = mm.Context(system, integrator, platform, {'Threads': str(threads)})
+    context.setPositions(pdb.positions)
+    context.applyConstraints(1e-10)
+    context.setVelocitiesToTemperature(TEMPERATURE, seed)
+    nonbonded = [f for f in system.getForces() if isinstance(f, mm.NonbondedForce)][0]
+    charge, sigma, epsilon = nonbonded.getParticleParameters(indices[0][0])
+    return context, integrator, molecules, (sigma._value, epsilon._value), np.array([box[i][i].value_in_unit(unit.nanometer) for i in range(3)])
+
+
+def translational_friction(pdb, system, atoms, viscosity_poise):
+    """eta * tr(Xi_tt)/3 (amu/ps) of one water body, with the radii addRigidBodies gives it."""
+    nonbonded = [f for f in system.getForces() if isinstance(f, mm.NonbondedForce)][0]
+    elements = [atom.element.symbol for atom in pdb.topology.atoms()]
+    radii = []
+    for a in atoms:
+        charge, sigma, epsilon = nonbonded.getParticleParameters(a)
+        radii.append(0.5*sigma._value if epsilon._value != 0 else rl.topology.VAN_DER_WAALS_RADII[elements[a]])
+    tensor = default_body_tensor([pdb.positions[a].value_in_unit(unit.nanometer) for a in atoms], radii)
+    return viscosity_poise*60221.4076*np.trace(tensor[:3, :3])/3
+
+
+def default_body_tensor(positions, radii):
+    """The integrator's default resistance tensor of a multi-particle body, per unit viscosity."""
+    factory = getattr(rl.ResistanceTensor, 'beads', None) or rl.ResistanceTensor.freeDrainingBeads
+    return factory([mm.Vec3(*p) for p in positions], radii).getMatrix()
+
+
+def block_error(values, blocks=10):
+    """Standard error of the mean of a correlated series, from the spread of block means."""
+    values = np.asarray(values)
+    n = len(values)//blocks
+    if n == 0:
+        return float('nan')
+    means = values[:n*blocks].reshape(blocks, n).mean(axis=1)
+    return float(means.std(ddof=1)/math.sqrt(blocks))
+
+
+def refusal(error):
+    text = str(error)
+    if 'Original scheme cannot integrate' in text:
+        return 'refused: friction too stiff for the fixed-point iteration'
+    return 'blew up: '+text[:80]
+
+
+def run_water(task):
+    """One S2 run: equilibrate, then sample every `sample_fs` (positions and velocities) and every
+    tenth sample the forces and energy; returns observables and the cost of the steps alone."""
+    viscosity, name, step_fs, seed, args = task['viscosity'], task['integrator'], task['step_fs'], task['seed'], task['args']
+    context, integrator, molecules, (sigma, epsilon), box = water_setup(ROOT/'examples'/'data'/'water256.pdb', viscosity, name, step_fs, seed, args.threads)
+    every = max(1, int(round(args.sample_fs/step_fs)))
+    dt = every*step_fs*1e-3
+    try:
+        integrator.step(int(round(args.equilibration_ps/(step_fs*1e-3))))
+        samples = int(round(args.production_ps/dt))
+        centers, directions, velocities = [], [], []
+        t_trans, t_rot, potential, force_sq, laplacian = [], [], [], [], []
+        rdf = 0
+        stepping = 0.0
+        for s in range(samples):
+            start = time.time()
+            integrator.step(every)
+            stepping += time.time()-start
+            heavy = (s % 10 == 0)
+            state = context.getState(getPositions=True, getVelocities=True, getForces=heavy, getEnergy=heavy)
+            x = state.getPositions(asNumpy=True)._value
+            v = state.getVelocities(asNumpy=True)._value
+            if not np.all(np.isfinite(x)):
+                return {'status': 'blew up'}
+            tt, tr = obs.kinetic_temperatures(molecules, x, v)
+            t_trans.append(tt)
+            t_rot.append(tr)
+            centers.append(molecules.centers(x))
+            directions.append(obs.dipole_directions(x, molecules))
+            velocities.append(molecules.rigid_motion(x, v)[0])
+            if heavy:
+                potential.append(state.getPotentialEnergy()._value/len(molecules.indices))
+                oxygens = x[molecules.indices[:, 0]]
+                a, b = obs.configurational_temperature_terms(molecules, state.getForces(asNumpy=True)._value, oxygens, box,
+                                                             sigma, epsilon, WATER_SWITCH, WATER_CUTOFF)
+                force_sq.append(a)
+                laplacian.append(b)
+                rdf = rdf+obs.radial_distribution(oxygens, box, 0.95, 95)
+    except mm.OpenMMException as e:
+        return {'status': refusal(e)}
+    lag1, lag2 = int(round(2.0/dt)), int(round(min(8.0, 0.5*args.production_ps)/dt))
+    conf = np.array(force_sq)/np.mean(laplacian)/obs.KB
+    return {'status': 'ok',
+            'T translational (K)': np.mean(t_trans), 'T translational (K) +-': block_error(t_trans),
+            'T rotational (K)': np.mean(t_rot), 'T rotational (K) +-': block_error(t_rot),
+            'potential per molecule (kJ/mol)': np.mean(potential), 'potential per molecule (kJ/mol) +-': block_error(potential),
+            'T configurational (K)': np.mean(force_sq)/np.mean(laplacian)/obs.KB, 'T configurational (K) +-': block_error(conf),
+            'O-O RDF': rdf/len(potential),
+            'D translational (nm^2/ps)': obs.diffusion_from_msd(centers, dt, lag1, max(lag2, lag1+1)),
+            'orientational time (ps)': obs.correlation_time(directions, dt, int(round(5.0/dt))),
+            'VACF': obs.velocity_autocorrelation(velocities, [1, 2, 4, 8]),
+            'ns/day': samples*every*step_fs*1e-6/(stepping/86400),
+            's per body-step': stepping/(samples*every*len(molecules.indices))}
+
+
+# ---------------------------------------------------------------------------- scene S1: free coupled bodies
+def coupled_tensor():
+    a = np.array([[1.0, 0.3, -0.2, 0.5, -0.1, 0.2], [0.1, 0.9, 0.4, -0.3, 0.6, 0.1], [-0.2, 0.2, 1.1, 0.2, 0.1, -0.5],
+                  [0.3, -0.4, 0.1, 1.2, 0.2, 0.3], [0.2, 0.1, -0.3, 0.1, 0.8, -0.2], [-0.1, 0.3, 0.2, -0.2, 0.3, 1.0]])
+    s = np.diag([2.5, 2.5, 2.5, 0.3, 0.3, 0.3])
+    return s@(a@a.T+0.5*np.eye(6))@s
+
+
+BODY_SHAPE = np.array([[0, 0, 0], [0.12, 0, 0], [0.02, 0.09, 0], [0.03, 0.02, 0.07]])
+BODY_MASSES = np.array([4.0, 3.0, 3.5, 7.5])  # 18 amu, water-sized inertia
+BODY_OFFSET = np.array([0.05, 0.03, 0.01])  # tensor origin relative to the centre of mass
+S1_VISCOSITY = 0.003  # poise: mode rates lambda h from 0.05 to 2.7 at 2 fs, orientational time 4.5 ps
+
+
+def s1_truth():
+    """Exact answers for S1: diffusion kT (eta Xi)^-1 at the centre of diffusion, Favro's times."""
+    kt = obs.KB*TEMPERATURE
+    eta = S1_VISCOSITY*60221.4076
+    def skew(r):
+        return np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])
+    def move(mu, r):
+        b = np.eye(6)
+        b[:3, 3:] = -skew(r)
+        return b@mu@b.T
+    d = move(kt*np.linalg.inv(eta*coupled_tensor()), -BODY_OFFSET)
+    trace = lambda r: np.trace(move(d, r)[:3, :3])
+    # Minimum of a quadratic: solve the gradient from finite differences.
+    e, g, hmat = 1e-3, np.zeros(3), np.zeros((3, 3))
+    for i in range(3):
+        ei = np.eye(3)[i]*e
+        g[i] = (trace(ei)-trace(-ei))/(2*e)
+        for j in range(3):
+            ej = np.eye(3)[j]*e
+            hmat[i, j] = (trace(ei+ej)-trace(ei-ej)-trace(-ei+ej)+trace(-ei-ej))/(4*e*e)
+    center = -np.linalg.solve(hmat, g)
+    rotational = np.linalg.eigvalsh(d[3:, 3:])
+    return {'T translational (K)': TEMPERATURE, 'T rotational (K)': TEMPERATURE,
+            'D translational (nm^2/ps)': trace(center)/3,
+            'orientational time (ps)': np.mean([1/(rotational.sum()-rotational[k]) for k in range(3)]),
+            'center': center, 'axes': np.linalg.eigh(d[3:, 3:])[1]}
+
+
+def run_free_bodies(task):
+    name, step_fs, seed, args = task['integrator'], task['step_fs'], task['seed'], task['args']
+    truth = s1_truth()
+    system = mm.System()
+    integrator = rl.RigidLangevinIntegrator(TEMPERATURE*unit.kelvin, S1_VISCOSITY*rl.poise, step_fs*1e-3*unit.picoseconds)
+    integrator.setScheme(SCHEMES[name])
+    integrator.setRandomNumberSeed(seed)
+    com = (BODY_MASSES[:, None]*BODY_SHAPE).sum(0)/BODY_MASSES.sum()
+    positions = []
+    n = args.free_bodies
+    for b in range(n):
+        first = system.getNumParticles()
+        for m, p in zip(BODY_MASSES, BODY_SHAPE):
+            system.addParticle(m)
+            positions.append(mm.Vec3(*(p-com+[3.0*b, 0, 0])))
+        integrator.addRigidBody(list(range(first, first+4)))
+        integrator.setBodyResistance(b, coupled_tensor(), mm.Vec3(*(BODY_OFFSET+[3.0*b, 0, 0])))
+    context = mm.Context(system, integrator, mm.Platform.getPlatformByName('CPU'), {'Threads': str(args.threads)})
+    context.setPositions(positions)
+    context.setVelocitiesToTemperature(TEMPERATURE, seed)
+    molecules = obs.Molecules([list(range(4*b, 4*b+4)) for b in range(n)], BODY_MASSES)
+    tau = truth['orientational time (ps)']
+    dt = tau/20
+    every = max(1, int(round(dt/(step_fs*1e-3))))
+    dt = every*step_fs*1e-3
+    samples = int(round(args.free_body_time*tau/dt))
+    reference = BODY_SHAPE-com
+    try:
+        integrator.step(every*20)
+        centers, axes, t_trans, t_rot = [], [], [], []
+        stepping = 0.0
+        for s in range(samples):
+            start = time.time()
+            integrator.step(every)
+            stepping += time.time()-start
+            state = context.getState(getPositions=True, getVelocities=True)
+            x = state.getPositions(asNumpy=True)._value
+            v = state.getVelocities(asNumpy=True)._value
+            tt, tr = obs.kinetic_temperatures(molecules, x, v, remove_com=False)
+            t_trans.append(tt)
+            t_rot.append(tr)
+            c = molecules.centers(x)
+            rotations = []
+            for b in range(n):
+                hmat = reference.T@(x[4*b:4*b+4]-c[b])
+                u, _, vt = np.linalg.svd(hmat)
+                dd = np.sign(np.linalg.det(vt.T@u.T))
+                rotations.append(vt.T@np.diag([1, 1, dd])@u.T)
+            rotations = np.array(rotations)
+            centers.append(c+np.einsum('bij,j->bi', rotations, truth['center']))
+            axes.append(np.einsum('bij,jk->bik', rotations, truth['axes']))
+    except mm.OpenMMException as e:
+        return {'status': refusal(e)}
+    times = []
+    for k in range(3):
+        times.append(obs.correlation_time([a[:, :, k] for a in axes], dt, samples//2))
+    lag1, lag2 = min(int(round(2*tau/dt)), samples//4), min(int(round(6*tau/dt)), samples//2)
+    return {'status': 'ok', 'T translational (K)': np.mean(t_trans), 'T translational (K) +-': block_error(t_trans),
+            'T rotational (K)': np.mean(t_rot), 'T rotational (K) +-': block_error(t_rot),
+            'D translational (nm^2/ps)': obs.diffusion_from_msd(centers, dt, lag1, lag2),
+            'orientational time (ps)': np.mean(times),
+            'ns/day': samples*every*step_fs*1e-6/(stepping/86400),
+            's per body-step': stepping/(samples*every*n)}
+
+
+# ---------------------------------------------------------------------------- stability
+def stability_task(task):
+    """The largest candidate step at which the integrator runs `steps` steps of the 64-water box
+    without blowing up (NaN, an exception, or a temperature above 1000 K), trying steps in order."""
+    viscosity, name, args = task['viscosity'], task['integrator'], task['args']
+    largest = 0.0
+    for step_fs in task['candidates']:
+        try:
+            context, integrator, molecules, lj, box = water_setup(ROOT/'examples'/'data'/'water64.pdb', viscosity, name, step_fs, 7, args.threads)
+            integrator.step(args.stability_steps)
+            state = context.getState(getPositions=True, getVelocities=True)
+            x = state.getPositions(asNumpy=True)._value
+            tt, tr = obs.kinetic_temperatures(molecules, x, state.getVelocities(asNumpy=True)._value)
+            stable = bool(np.all(np.isfinite(x)) and tt < 1000 and tr < 1000)
+        except mm.OpenMMException:
+            stable = False
+        if not stable:
+            break
+        largest = step_fs
+    return {'largest stable step (fs)': largest}
+
+
+# ---------------------------------------------------------------------------- driver
+def distribute(function, tasks, label):
+    """Run tasks over the MPI ranks (one task per replica slot); returns their results in order on rank 0."""
+    result = run_ensemble(lambda index, seed: {'index': index, 'payload': function(tasks[index])}, len(tasks), label=label)
+    if result is None:
+        return None
+    return [v['payload'] for v in result.values]
+
+
+def errors(measured, truth):
+    e = {}
+    for key, value in truth.items():
+        if key not in measured or measured.get('status') != 'ok':
+            continue
+        if key in ('O-O RDF', 'VACF'):
+            error = float(np.sqrt(np.mean((np.asarray(measured[key])-np.asarray(value))**2)))
+        elif np.isscalar(value):
+            error = abs(measured[key]-value)/abs(value)
+        else:
+            continue
+        if np.isfinite(error):  # too short a run gives no diffusion, say
+            e[key] = error
+    return e
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description='Speed against error of integrators for rigid bodies.')
+    parser.add_argument('--quick', action='store_true', help='a few ps per run: checks the machinery, not the numbers')
+    parser.add_argument('--out', default='out/speed_vs_error')
+    parser.add_argument('--threads', type=int, default=0, help='CPU threads per Context (default: cores / MPI ranks)')
+    parser.add_argument('--parts', default='s1,s2,stability', help='which parts to run (default all)')
+    args = parser.parse_args(argv)
+    ranks = int(os.environ.get('OMPI_COMM_WORLD_SIZE', os.environ.get('PMI_SIZE', '1')))
+    if args.threads == 0:
+        args.threads = max(1, (os.cpu_count() or 1)//ranks)
+    args.sample_fs = 10.0
+    args.equilibration_ps, args.production_ps, args.reference_ps = (0.5, 2.0, 4.0) if args.quick else (5.0, 40.0, 100.0)
+    args.free_bodies, args.free_body_time = (10, 4) if args.quick else (50, 50)
+    args.stability_steps = 200 if args.quick else 100000
+    viscosities = [0.01, 0.1, 1.0]
+    water_steps = [1.0, 2.0, 3.0, 4.0]
+    free_steps = [1.0, 2.0, 4.0, 8.0, 16.0]
+    parts = set(args.parts.split(','))
+    rows, stability = [], []
+
+    if 's1' in parts:
+        tasks = [{'integrator': name, 'step_fs': h, 'seed': 11, 'args': args} for name in SCHEMES for h in free_steps]
+        results = distribute(run_free_bodies, tasks, 'S1 free coupled bodies')
+        if results is not None:
+            truth = s1_truth()
+            for task, result in zip(tasks, results):
+                rows.append(row('S1 free coupled bodies', S1_VISCOSITY, task, result, errors(result, truth)))
+
+    if 's2' in parts:
+        reference_tasks = [{'viscosity': eta, 'integrator': 'ExactFlow', 'step_fs': 0.5, 'seed': 101, 'args': args} for eta in viscosities]
+        saved = args.production_ps
+        args.production_ps = args.reference_ps
+        references = distribute(run_water, reference_tasks, 'S2 reference runs (0.5 fs)')
+        args.production_ps = saved
+        tasks = [{'viscosity': eta, 'integrator': name, 'step_fs': h, 'seed': 7, 'args': args}
+                 for eta in viscosities for name in INTEGRATORS for h in water_steps]
+        results = distribute(run_water, tasks, 'S2 rigid water')
+        if results is not None:
+            truth_by_viscosity = {task['viscosity']: ref for task, ref in zip(reference_tasks, references)}
+            for task, ref in zip(reference_tasks, references):
+                rows.append(row('S2 water (reference)', task['viscosity'], task, ref, {}))
+            for task, result in zip(tasks, results):
+                truth = {k: v for k, v in truth_by_viscosity[task['viscosity']].items() if k not in ('status', 'ns/day', 's per body-step')}
+                truth['T translational (K)'] = truth['T rotational (K)'] = TEMPERATURE  # exact for every integrator
+                rows.append(row('S2 water', task['viscosity'], task, result, errors(result, truth)))
+
+    if 'stability' in parts:
+        candidates = [0.1, 0.2, 0.5, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 10.0]
+        tasks = [{'viscosity': eta, 'integrator': name, 'candidates': candidates, 'args': args} for eta in viscosities for name in INTEGRATORS]
+        results = distribute(stability_task, tasks, 'stability (64 waters)')
+        if results is not None:
+            for task, result in zip(tasks, results):
+                stability.append({'viscosity (P)': task['viscosity'], 'integrator': task['integrator'],
+                                  'largest stable step (fs)': result['largest stable step (fs)']})
+
+    if rows or stability:
+        import report
+        report.write(pathlib.Path(args.out), rows, stability)
+    return 0
+
+
+def row(scene, viscosity, task, result, error):
+    r = {'scene': scene, 'viscosity (P)': viscosity, 'integrator': task['integrator'], 'step (fs)': task['step_fs'],
+         'status': result.get('status', 'ok')}
+    for key, value in result.items():
+        if key != 'status' and np.isscalar(value):
+            r[key] = value
+    for key, value in error.items():
+        r['error '+key] = value
+    return r
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,104 @@
+"""Hydrodynamic resistance tensors of rigid bodies.
+
+Every factory returns a ResistanceTensor: the 6x6 matrix Xi per unit viscosity with
+(force, torque) = -viscosity * Xi * (velocity, angular velocity) about the tensor's origin.
+`t.getMatrix(origin)` gives it (numpy 6x6) about any point; `t.getCenterOfResistance()`,
+`t.getCenterOfDiffusion()` and `t.getDiffusionTensor(temperature, viscosity)` (kT (eta Xi)^-1)
+describe it; `integrator.setBodyHydrodynamics(index, t)` gives a body that friction.
+
+Positions may be an (N, 3) numpy array or a list of Vec3 (nm), or a Quantity of either; radii a
+sequence or a Quantity.
+
+    import rigidlangevin.hydrodynamics as hydro
+    xi = hydro.shellExtrapolated(atom_positions, atom_radii)         # the union of the atoms' spheres
+    xi = hydro.beads(atom_positions, atom_radii, hydro.unionVolume(atom_positions, atom_radii))
+    xi = hydro.ellipsoid(0.4, 0.2, 0.1)                               # Perrin, semi-axes along x, y, z
+"""
+import numpy as np
+import openmm as mm
+import openmm.unit as unit
+
+from .core import ResistanceTensor
+
+__all__ = ['ResistanceTensor', 'sphere', 'ellipsoid', 'spheroid', 'beads', 'beadVolume', 'unionVolume', 'roughShell',
+           'roughShellBeads', 'shellExtrapolated', 'freeDrainingBeads', 'explicit']
+
+
+def _length(value):
+    return value.value_in_unit(unit.nanometer) if unit.is_quantity(value) else float(value)
+
+
+def _vectors(positions):
+    if unit.is_quantity(positions):
+        positions = positions.value_in_unit(unit.nanometer)
+    array = np.array([[_length(c) for c in p] for p in positions], dtype=float)
+    if array.ndim != 2 or array.shape[1] != 3:
+        raise ValueError(f'positions must be N x 3, got shape {array.shape}')
+    return [mm.Vec3(*p) for p in array]
+
+
+def _lengths(radii):
+    if unit.is_quantity(radii):
+        radii = radii.value_in_unit(unit.nanometer)
+    return [_length(r) for r in radii]
+
+
+def _point(point):
+    return mm.Vec3(*(_length(c) for c in (point.value_in_unit(unit.nanometer) if unit.is_quantity(point) else point)))
+
+
+def sphere(radius, center=(0, 0, 0)):
+    """A sphere with stick boundary conditions: 6 pi R and 8 pi R^3."""
+    return ResistanceTensor.sphere(_length(radius), _point(center))
+
+
+def ellipsoid(a, b, c, center=(0, 0, 0)):
+    """A triaxial ellipsoid with semi-axes a, b, c along x, y, z (Perrin's friction, Carlson's integrals)."""
+    return ResistanceTensor.ellipsoid(_length(a), _length(b), _length(c), _point(center))
+
+
+def spheroid(a, b, center=(0, 0, 0)):
+    """A prolate (a > b) or oblate (a < b) spheroid with its symmetry axis a along x (closed forms)."""
+    return ResistanceTensor.spheroid(_length(a), _length(b), _point(center))
+
+
+def beads(positions, radii, correctionVolume=0.0):
+    """A rigid bead model with generalised Rotne-Prager-Yamakawa hydrodynamic interaction (overlapping
+    and nested beads included) and the volume correction +6 V on the rotational block."""
+    v = correctionVolume.value_in_unit(unit.nanometer**3) if unit.is_quantity(correctionVolume) else float(correctionVolume)
+    return ResistanceTensor.beads(_vectors(positions), _lengths(radii), v)
+
+
+def beadVolume(radii):
+    """The sum of the beads' volumes (nm^3): the correction volume of non-overlapping filling beads."""
+    return ResistanceTensor.beadVolume(_lengths(radii))
+
+
+def unionVolume(positions, radii):
+    """The volume of the union of the spheres (nm^3): the correction volume of overlapping filling beads."""
+    return ResistanceTensor.unionVolume(_vectors(positions), _lengths(radii))
+
+
+def roughShell(positions, radii, beadRadius):
+    """A rough shell model: the surface of the union of the atoms' spheres tiled with small beads."""
+    return ResistanceTensor.roughShell(_vectors(positions), _lengths(radii), _length(beadRadius))
+
+
+def roughShellBeads(positions, radii, beadRadius):
+    """The bead centres of roughShell(), as an (N, 3) Quantity in nm."""
+    return ResistanceTensor.roughShellBeads(_vectors(positions), _lengths(radii), _length(beadRadius))
+
+
+def shellExtrapolated(positions, radii, maxBeads=2000, numResolutions=6):
+    """Rough shells at several resolutions extrapolated to zero bead size, as HYDRO++ does."""
+    return ResistanceTensor.shellExtrapolated(_vectors(positions), _lengths(radii), int(maxBeads), int(numResolutions))
+
+
+def freeDrainingBeads(positions, radii):
+    """Beads with Stokes friction each and no hydrodynamic interaction between them."""
+    return ResistanceTensor.freeDrainingBeads(_vectors(positions), _lengths(radii))
+
+
+def explicit(matrix, origin=(0, 0, 0)):
+    """A tensor from its 6x6 matrix (per unit viscosity) about the point origin."""
+    return ResistanceTensor.explicit(matrix, _point(origin))

@@ -1,0 +1,182 @@
+"""RigidLangevinIntegrator in openmm.app: Simulation, reporters, checkpoints, States, force-field water."""
+import io
+import os
+import pathlib
+
+import numpy as np
+import openmm as mm
+import openmm.app as app
+import openmm.unit as unit
+import pytest
+
+import rigidlangevin as rl
+
+WATER_MODELS = {'tip3p': 'tip3p.xml', 'spce': 'spce.xml', 'tip4pew': 'tip4pew.xml'}
+
+
+def water_simulation(model='tip3p', waters=64, rigid_water=True, constrain_bodies=True, platform='CPU', viscosity=0.89*rl.centipoise,
+                     minimize=True):
+    """A box of force-field water with one rigid body per molecule, minimized (Modeller's small boxes
+    have overlapping molecules)."""
+    forcefield = app.ForceField(WATER_MODELS[model])
+    modeller = app.Modeller(app.Topology(), [])
+    modeller.addSolvent(forcefield, model=model, numAdded=waters)
+    system = forcefield.createSystem(modeller.topology, nonbondedMethod=app.PME, nonbondedCutoff=0.6*unit.nanometer, rigidWater=rigid_water)
+    integrator = rl.RigidLangevinIntegrator(300*unit.kelvin, viscosity, 2*unit.femtoseconds)
+    integrator.setRandomNumberSeed(3)
+    bodies = rl.addRigidBodies(integrator, modeller.topology, system, positions=modeller.positions if constrain_bodies else None)
+    assert len(bodies) == waters
+    simulation = app.Simulation(modeller.topology, system, integrator, mm.Platform.getPlatformByName(platform))
+    simulation.context.setPositions(modeller.positions)
+    if minimize:
+        simulation.minimizeEnergy(maxIterations=100)
+    return simulation
+
+
+def positions_of(simulation):
+    return simulation.context.getState(getPositions=True).getPositions(asNumpy=True).value_in_unit(unit.nanometer)
+
+
+def body_shapes(simulation):
+    """Sorted intramolecular distances of every water (massive particles only)."""
+    x = positions_of(simulation)
+    shapes = []
+    for residue in simulation.topology.residues():
+        atoms = [a.index for a in residue.atoms() if a.element is not None]
+        shapes.append(sorted(np.linalg.norm(x[a]-x[b]) for i, a in enumerate(atoms) for b in atoms[i+1:]))
+    return np.array(shapes)
+
+
+@pytest.mark.parametrize('model', ['tip3p', 'spce', 'tip4pew'])
+@pytest.mark.parametrize('rigid_water', [True, False])
+def test_force_field_water_minimize_and_run(model, rigid_water):
+    # The force fields' rigid water works as bodies with or without the System's water constraints;
+    # minimizeEnergy keeps them rigid (addRigidBodies adds constraints where there are none).
+    simulation = water_simulation(model, rigid_water=rigid_water, minimize=False)
+    simulation.minimizeEnergy(maxIterations=100)
+    shapes = body_shapes(simulation)
+    simulation.context.setVelocitiesToTemperature(300*unit.kelvin, 5)
+    simulation.step(200)
+    # Identical molecules (within 1e-3 nm) share one body type and take its exact shape, that of the
+    # first water, and keep it.
+    after = body_shapes(simulation)
+    assert np.abs(after-after[0]).max() < 1e-9
+    assert np.abs(after-shapes).max() < 1e-3
+    integrator = simulation.integrator
+    assert integrator.getNumDegreesOfFreedom() == 6*64
+    assert 150 < integrator.computeSystemTemperature().value_in_unit(unit.kelvin) < 500
+    if model == 'tip4pew':
+        # The massless M site stays on its virtual-site definition.
+        x = positions_of(simulation)
+        for residue in simulation.topology.residues():
+            o, h1, h2, m = [a.index for a in residue.atoms()]
+            site = simulation.system.getVirtualSite(m)
+            expected = sum(site.getWeight(k)*x[site.getParticle(k)] for k in range(3))
+            assert np.linalg.norm(x[m]-expected) < 1e-6
+
+
+def test_state_data_reporter_reports_rigid_body_temperature():
+    simulation = water_simulation(viscosity=10*rl.centipoise)
+    simulation.context.setVelocitiesToTemperature(300*unit.kelvin, 1)
+    out = io.StringIO()
+    simulation.reporters.append(app.StateDataReporter(out, 50, step=True, temperature=True))
+    temperatures = io.StringIO()
+    simulation.reporters.append(rl.RigidBodyTemperatureReporter(temperatures, 50))
+    simulation.step(2000)
+    reported = [float(line.split(',')[1]) for line in out.getvalue().splitlines()[1:]]
+    # 384 degrees of freedom less the centre of mass (a CMMotionRemover): fluctuations of ~7%.
+    assert len(reported) == 40
+    assert 280 < np.mean(reported[5:]) < 320
+    rows = [line.split(',') for line in temperatures.getvalue().splitlines()[1:]]
+    assert len(rows) == 40
+    last = [float(v) for v in rows[-1]]
+    assert last[4] == pytest.approx(reported[-1], rel=1e-6)
+    assert 150 < last[2] < 450 and 150 < last[3] < 450
+
+
+def test_dcd_reporter_writes_frames(tmp_path):
+    simulation = water_simulation()
+    path = str(tmp_path/'traj.dcd')
+    simulation.reporters.append(app.DCDReporter(path, 10))
+    simulation.step(50)
+    del simulation.reporters[:]
+    with open(path, 'rb') as f:
+        header = f.read(12)
+    # First Fortran record: length 84, 'CORD', then the number of frames.
+    assert np.frombuffer(header[:4], dtype=np.int32)[0] == 84 and header[4:8] == b'CORD'
+    assert np.frombuffer(header[8:12], dtype=np.int32)[0] == 5
+
+
+def test_checkpoints_continue_bit_identically(tmp_path):
+    # On the Reference platform: OpenMM's CPU platform sums forces in a thread-dependent order, so
+    # there even its own integrators continue from a checkpoint only to ~1e-8.
+    simulation = water_simulation(platform='Reference')
+    simulation.context.setVelocitiesToTemperature(300*unit.kelvin, 2)
+    simulation.step(20)
+    path = str(tmp_path/'sim.chk')
+    simulation.saveCheckpoint(path)
+    simulation.step(30)
+    first = positions_of(simulation)
+    simulation.loadCheckpoint(path)
+    simulation.step(30)
+    assert np.array_equal(first, positions_of(simulation))
+    # The CheckpointReporter writes the same kind of file.
+    reporter_path = str(tmp_path/'reporter.chk')
+    simulation.reporters.append(app.CheckpointReporter(reporter_path, 10))
+    simulation.step(10)
+    assert os.path.getsize(reporter_path) > 0
+
+
+def test_states_and_reinitialize_preserve_bodies(tmp_path):
+    simulation = water_simulation()
+    simulation.context.setVelocitiesToTemperature(300*unit.kelvin, 4)
+    simulation.step(20)
+    path = str(tmp_path/'state.xml')
+    simulation.saveState(path)
+    saved = simulation.context.getState(getPositions=True, getVelocities=True)
+    simulation.step(20)
+    simulation.loadState(path)
+    def difference(a, b):
+        return np.abs(np.array(a._value)-np.array(b._value)).max()
+    state = simulation.context.getState(getPositions=True, getVelocities=True)
+    assert difference(state.getPositions(), saved.getPositions()) < 1e-12
+    assert difference(state.getVelocities(), saved.getVelocities()) < 1e-9
+    simulation.context.reinitialize(preserveState=True)
+    state = simulation.context.getState(getPositions=True)
+    assert difference(state.getPositions(), saved.getPositions()) < 1e-12
+    simulation.step(20)
+
+
+def test_selecting_residues_and_radii():
+    forcefield = app.ForceField('tip3p.xml')
+    modeller = app.Modeller(app.Topology(), [])
+    modeller.addSolvent(forcefield, model='tip3p', numAdded=10)
+    system = forcefield.createSystem(modeller.topology, nonbondedMethod=app.NoCutoff, rigidWater=True)
+    integrator = rl.RigidLangevinIntegrator(300, 100, 0.002)
+    first = lambda residue: residue.index < 4
+    assert rl.addRigidBodies(integrator, modeller.topology, system, residues=first) == [0, 1, 2, 3]
+    assert integrator.getNumRigidBodies() == 4
+    # Hydrogens (epsilon 0) get the van der Waals radius of hydrogen; oxygens keep sigma/2.
+    assert integrator.getParticleRadius(1).value_in_unit(unit.nanometer) == pytest.approx(0.12)
+    assert integrator.getParticleRadius(0) is None
+    integrator2 = rl.RigidLangevinIntegrator(300, 100, 0.002)
+    assert len(rl.addRigidBodies(integrator2, modeller.topology, system, residues=['HOH'])) == 10
+
+
+@pytest.mark.parametrize('model', ['tip3p', 'spce'])
+def test_water_without_any_constraints_runs_as_bodies(model):
+    # A flexible-water System (bonds and angles, no constraints) moved as rigid bodies: the
+    # intramolecular forces cancel within each body, which keeps its shape.
+    pdb = app.PDBFile(str(pathlib.Path(__file__).resolve().parents[1]/'examples'/'data'/'water256.pdb'))
+    forcefield = app.ForceField(WATER_MODELS[model])
+    system = forcefield.createSystem(pdb.topology, nonbondedMethod=app.PME, nonbondedCutoff=0.9*unit.nanometer, rigidWater=False)
+    assert system.getNumConstraints() == 0
+    integrator = rl.RigidLangevinIntegrator(300*unit.kelvin, 0.1*rl.poise, 2*unit.femtoseconds)
+    rl.addRigidBodies(integrator, pdb.topology, system)
+    simulation = app.Simulation(pdb.topology, system, integrator, mm.Platform.getPlatformByName('CPU'))
+    simulation.context.setPositions(pdb.positions)
+    simulation.context.setVelocitiesToTemperature(300*unit.kelvin, 1)
+    shapes = body_shapes(simulation)
+    simulation.step(100)
+    assert np.abs(body_shapes(simulation)-shapes).max() < 1e-3
+    assert 200 < integrator.computeSystemTemperature().value_in_unit(unit.kelvin) < 400

@@ -1,0 +1,69 @@
+"""The MPI ensemble runner: replicas with their own seeds, reduced to mean and standard error."""
+import shutil
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+from rigidlangevin.ensemble import run_ensemble
+
+# A replica: free Stokes particles at 300 K; returns the mean kinetic temperature and the mean
+# square displacement at three lags, from its own seed.
+REPLICA = textwrap.dedent('''
+    import numpy as np, openmm as mm, rigidlangevin as rl
+    def replica(index, seed):
+        system = mm.System()
+        integrator = rl.RigidLangevinIntegrator(300, 500.0, 0.002)
+        integrator.setRandomNumberSeed(seed)
+        for i in range(50):
+            system.addParticle(18.0)
+            integrator.setParticleRadius(i, 0.15)
+        context = mm.Context(system, integrator, mm.Platform.getPlatformByName('Reference'))
+        context.setPositions([mm.Vec3(i, 0, 0) for i in range(50)])
+        context.setVelocitiesToTemperature(300, seed)
+        start = context.getState(getPositions=True).getPositions(asNumpy=True)._value
+        msd = []
+        for lag in range(3):
+            integrator.step(100)
+            x = context.getState(getPositions=True).getPositions(asNumpy=True)._value
+            msd.append(((x-start)**2).sum(axis=1).mean())
+        return {'temperature': integrator.computeSystemTemperature()._value, 'msd': np.array(msd), 'seed': seed}
+''')
+
+
+def test_serial_ensemble():
+    namespace = {}
+    exec(REPLICA, namespace)
+    result = run_ensemble(namespace['replica'], replicas=4, base_seed=10, progress=False)
+    assert result.replicas == 4 and result.seeds == [10, 11, 12, 13]
+    mean, error = result['msd']
+    assert mean.shape == (3,) and np.all(error > 0) and np.all(np.diff(mean) > 0)
+    assert result['seed'][0] == pytest.approx(11.5)
+    # Different seeds give different replicas.
+    assert len({v['temperature'] for v in result.values}) == 4
+
+
+@pytest.mark.skipif(shutil.which('mpirun') is None, reason='mpirun is not installed')
+def test_mpi_ensemble_on_two_ranks(tmp_path):
+    script = tmp_path/'ensemble.py'
+    script.write_text(REPLICA+textwrap.dedent('''
+        from rigidlangevin.ensemble import run_ensemble
+        result = run_ensemble(replica, replicas=4, base_seed=10)
+        if result is not None:
+            print('seeds', result.seeds, 'temperature', result['temperature'][0], result['temperature'][1])
+    '''))
+    command = ['mpirun', '--oversubscribe', '-np', '2', sys.executable, str(script)]
+    import os
+    if os.geteuid() == 0:
+        command.insert(1, '--allow-run-as-root')
+    result = subprocess.run(command, capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    line = [l for l in result.stdout.splitlines() if l.startswith('seeds')]
+    assert len(line) == 1 and 'seeds [10, 11, 12, 13]' in line[0]
+    # The same replicas run serially give the same reduced result.
+    namespace = {}
+    exec(REPLICA, namespace)
+    serial = run_ensemble(namespace['replica'], replicas=4, base_seed=10, progress=False)
+    assert float(line[0].split()[-2]) == pytest.approx(serial['temperature'][0], rel=1e-12)

@@ -1,0 +1,89 @@
+"""rigidlangevin.hydrodynamics: the resistance tensors from Python, with numpy and Quantities."""
+import math
+
+import numpy as np
+import openmm as mm
+import openmm.unit as unit
+import pytest
+
+import rigidlangevin as rl
+import rigidlangevin.hydrodynamics as hydro
+
+KB = 0.0083144626181532
+
+
+def test_sphere_and_stokes_einstein():
+    t = hydro.sphere(2*unit.angstrom)
+    assert t.getMatrix()[0, 0] == pytest.approx(6*math.pi*0.2)
+    d = t.getDiffusionTensor(300*unit.kelvin, 0.89*rl.centipoise)
+    eta = 0.89*602.214076
+    assert d[0, 0] == pytest.approx(KB*300/(6*math.pi*eta*0.2), rel=1e-10)
+    assert d[3, 3] == pytest.approx(KB*300/(8*math.pi*eta*0.2**3), rel=1e-10)
+
+
+def test_perrin_ellipsoids():
+    # A prolate spheroid of axial ratio 2: Perrin's f/f0 = 1.044 for the orientation-averaged
+    # translation, relative to the sphere of the same volume.
+    a, b = 0.2, 0.1
+    prolate = hydro.spheroid(a, b).getMatrix()
+    assert np.allclose(prolate, hydro.ellipsoid(a, b, b).getMatrix(), rtol=1e-10)
+    mean_mobility = np.trace(np.linalg.inv(prolate[:3, :3]))/3
+    f0 = 6*math.pi*(a*b*b)**(1/3)
+    assert (1/mean_mobility)/f0 == pytest.approx(1.044, abs=1e-3)
+
+
+def test_beads_from_numpy_and_quantities():
+    x = np.array([[0, 0, 0], [0.1, 0, 0], [0, 0.12, 0]])
+    radii = [0.08, 0.07, 0.06]
+    a = hydro.beads(x, radii).getMatrix()
+    b = hydro.beads(x*unit.nanometer, np.array(radii)*unit.nanometer).getMatrix()
+    c = hydro.beads([mm.Vec3(*p) for p in x*10]*unit.angstrom, radii).getMatrix()
+    assert np.allclose(a, b) and np.allclose(a, c)
+    assert np.allclose(a, a.T) and np.all(np.linalg.eigvalsh(a[:3, :3]) > 0)
+    corrected = hydro.beads(x, radii, hydro.unionVolume(x, radii)).getMatrix()
+    assert np.allclose(corrected[3:, 3:]-a[3:, 3:], 6*hydro.unionVolume(x, radii)*np.eye(3), rtol=1e-10)
+    assert hydro.beadVolume(radii) == pytest.approx(sum(4*math.pi/3*r**3 for r in radii))
+    # Two spheres of radius 0.1 at 0.1 overlap: the union is 2 V - lens.
+    lens = math.pi*(4*0.1+0.1)*(0.2-0.1)**2/12
+    assert hydro.unionVolume([[0, 0, 0], [0.1, 0, 0]], [0.1, 0.1]) == pytest.approx(2*4*math.pi/3*1e-3-lens, rel=1e-3)
+    with pytest.raises(mm.OpenMMException, match='bead'):
+        hydro.beads([[0, 0, 0], [0, 0, 0]], [0.1, 0.1])
+
+
+def test_shell_model_of_a_sphere():
+    beads = hydro.roughShellBeads([[0, 0, 0]], [0.5], 0.05)
+    assert beads.shape[1] == 3
+    radii = np.linalg.norm(beads.value_in_unit(unit.nanometer), axis=1)
+    assert np.allclose(radii, 0.5, atol=1e-9)
+    extrapolated = hydro.shellExtrapolated([[0, 0, 0]], [0.5], maxBeads=600).getMatrix()
+    assert extrapolated[0, 0] == pytest.approx(6*math.pi*0.5, rel=0.02)
+    assert extrapolated[4, 4] == pytest.approx(8*math.pi*0.125, rel=0.02)
+
+
+def test_centers_and_explicit():
+    t = hydro.sphere(0.1, center=(0.3, 0, 0))
+    assert t.getCenterOfResistance().value_in_unit(unit.nanometer) == pytest.approx(mm.Vec3(0.3, 0, 0), abs=1e-12)
+    assert t.getCenterOfDiffusion().value_in_unit(unit.nanometer) == pytest.approx(mm.Vec3(0.3, 0, 0), abs=1e-12)
+    moved = hydro.explicit(t.getMatrix(mm.Vec3(0, 0, 0)), (0, 0, 0))
+    assert moved.getCenterOfResistance().value_in_unit(unit.nanometer) == pytest.approx(mm.Vec3(0.3, 0, 0), abs=1e-12)
+
+
+def test_integrator_uses_models_and_shares_types():
+    system = mm.System()
+    integrator = rl.RigidLangevinIntegrator(300, 0.89*rl.centipoise, 0.002)
+    positions = []
+    for b in range(50):
+        first = system.getNumParticles()
+        for m in (15.999, 1.008, 1.008):
+            system.addParticle(m)
+        c, s = math.cos(0.3*b), math.sin(0.3*b)
+        positions += [mm.Vec3(b, 0, 0), mm.Vec3(b+0.09572*c, 0.09572*s, 0), mm.Vec3(b-0.024*c-0.0927*s, -0.024*s+0.0927*c, 0)]
+        integrator.addRigidBody([first, first+1, first+2])
+        for p, r in zip(range(first, first+3), (0.1575, 0.12, 0.12)):
+            integrator.setParticleRadius(p, r)
+    integrator.setBodyHydrodynamics(49, hydro.ellipsoid(0.2, 0.15, 0.1, center=(49, 0, 0)))
+    context = mm.Context(system, integrator, mm.Platform.getPlatformByName('Reference'))
+    context.setPositions(positions)
+    # 49 identical waters with the default bead model share a type; the ellipsoid one has its own.
+    assert integrator.getNumBodyTypes() == 2
+    integrator.step(10)
