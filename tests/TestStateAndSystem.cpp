@@ -288,13 +288,15 @@ TEST_P(StateAndSystem, CMMotionRemoverWorks) {
         else {
             integrator.step(500);
             Series temperature;
-            for (int i = 0; i < 4000; i++) {
+            // 12000 samples give a standard error near 1.1 K, so that leaving the 3 centre-of-mass
+            // degrees of freedom in the count (2% of 150, 6 K) fails.
+            for (int i = 0; i < 12000; i++) {
                 integrator.step(5);
                 temperature.add(integrator.computeSystemTemperature());
             }
             std::cout << "with CMMotionRemover: system temperature " << temperature.mean() << " +- " << temperature.standardError() << " K" << std::endl;
             EXPECT_NEAR(300, temperature.mean(), 5*temperature.standardError());
-            EXPECT_LT(temperature.standardError(), 2.0);
+            EXPECT_LT(temperature.standardError(), 1.8);
         }
     }
 }
