@@ -329,6 +329,15 @@ inline std::vector<PlatformConfig> platformConfigs(const std::vector<std::string
     return configs;
 }
 
+/** Every platform but Reference, GPU platforms in all three precisions: what is compared with Reference. */
+inline std::vector<PlatformConfig> nonReferenceConfigs() {
+    std::vector<PlatformConfig> configs;
+    for (const PlatformConfig& c : platformConfigs({"single", "mixed", "double"}))
+        if (c.platform != "Reference")
+            configs.push_back(c);
+    return configs;
+}
+
 /**
  * Whether the statistical tests run all their cases on a platform, or one representative case per
  * test. Reference defines the physics and the GPU platforms reimplement it (their own kernels), so

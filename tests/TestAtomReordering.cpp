@@ -104,13 +104,6 @@ PlatformConfig reference() {
 class AtomReordering : public testing::TestWithParam<PlatformConfig> {
 };
 
-std::vector<PlatformConfig> nonReferenceConfigs() {
-    std::vector<PlatformConfig> configs;
-    for (const PlatformConfig& c : platformConfigs({"single", "mixed", "double"}))
-        if (c.platform != "Reference")
-            configs.push_back(c);
-    return configs;
-}
 
 } // namespace
 

@@ -125,17 +125,5 @@ TEST_P(PlatformParity, FollowsReferenceWithThePlatformsNonbondedForce) {
     checkParity(config, runs[0], LennardJonesCluster::Nonbonded, exact);
 }
 
-namespace {
-
-std::vector<PlatformConfig> nonReferenceConfigs() {
-    std::vector<PlatformConfig> configs;
-    for (const PlatformConfig& c : platformConfigs({"single", "mixed", "double"}))
-        if (c.platform != "Reference")
-            configs.push_back(c);
-    return configs;
-}
-
-} // namespace
-
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(PlatformParity);
 INSTANTIATE_TEST_SUITE_P(AllPlatforms, PlatformParity, testing::ValuesIn(nonReferenceConfigs()), PlatformConfigName());

@@ -124,26 +124,10 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
     atomStart[numBodies] = numEntries;
     numReductionGroups = std::max(1, std::min(cc.getNumThreadBlocks(), (numBodies+ReductionGroupSize-1)/ReductionGroupSize));
 
-    if (mixedIsDouble) {
-        initializeArray<mm_double4>(bodyPosition, cc, numBodies, "rigidBodyPosition");
-        initializeArray<mm_double4>(bodyVelocity, cc, numBodies, "rigidBodyVelocity");
-        initializeArray<mm_double4>(bodyAngularMomentum, cc, numBodies, "rigidBodyAngularMomentum");
-        initializeArray<mm_double4>(bodyRotation, cc, 3*numBodies, "rigidBodyRotation");
-        initializeArray<mm_double4>(atomCoords, cc, numEntries, "rigidBodyAtomCoords");
-        initializeArray<double>(typeParams, cc, TypeStride*std::max(1, model.getNumTypes()), "rigidBodyTypeParams");
-        initializeArray<mm_double4>(centerOfMassVelocity, cc, 1, "rigidBodyCenterOfMassVelocity");
-        initializeArray<mm_double4>(kineticEnergies, cc, 2*numReductionGroups, "rigidBodyKineticEnergies");
-    }
-    else {
-        initializeArray<mm_float4>(bodyPosition, cc, numBodies, "rigidBodyPosition");
-        initializeArray<mm_float4>(bodyVelocity, cc, numBodies, "rigidBodyVelocity");
-        initializeArray<mm_float4>(bodyAngularMomentum, cc, numBodies, "rigidBodyAngularMomentum");
-        initializeArray<mm_float4>(bodyRotation, cc, 3*numBodies, "rigidBodyRotation");
-        initializeArray<mm_float4>(atomCoords, cc, numEntries, "rigidBodyAtomCoords");
-        initializeArray<float>(typeParams, cc, TypeStride*std::max(1, model.getNumTypes()), "rigidBodyTypeParams");
-        initializeArray<mm_float4>(centerOfMassVelocity, cc, 1, "rigidBodyCenterOfMassVelocity");
-        initializeArray<mm_float4>(kineticEnergies, cc, 2*numReductionGroups, "rigidBodyKineticEnergies");
-    }
+    if (mixedIsDouble)
+        initializeMixedArrays<double, mm_double4>(model.getNumTypes());
+    else
+        initializeMixedArrays<float, mm_float4>(model.getNumTypes());
     initializeArray<int>(bodyType, cc, numBodies, "rigidBodyType");
     initializeArray<int>(bodyAtomStart, cc, numBodies+1, "rigidBodyAtomStart");
     initializeArray<int>(atomBody, cc, numEntries, "rigidBodyAtomBody");
@@ -270,6 +254,18 @@ void CommonIntegrateRigidLangevinStepKernel::placeAtoms() {
     for (int i = 0; i < 3; i++)
         setMixed4Arg(placeKernel, 15+i, box[i], mixedIsDouble);
     placeKernel->execute(numEntries);
+}
+
+template <class Mixed, class Mixed4>
+void CommonIntegrateRigidLangevinStepKernel::initializeMixedArrays(int numTypes) {
+    initializeArray<Mixed4>(bodyPosition, cc, numBodies, "rigidBodyPosition");
+    initializeArray<Mixed4>(bodyVelocity, cc, numBodies, "rigidBodyVelocity");
+    initializeArray<Mixed4>(bodyAngularMomentum, cc, numBodies, "rigidBodyAngularMomentum");
+    initializeArray<Mixed4>(bodyRotation, cc, 3*numBodies, "rigidBodyRotation");
+    initializeArray<Mixed4>(atomCoords, cc, numEntries, "rigidBodyAtomCoords");
+    initializeArray<Mixed>(typeParams, cc, TypeStride*std::max(1, numTypes), "rigidBodyTypeParams");
+    initializeArray<Mixed4>(centerOfMassVelocity, cc, 1, "rigidBodyCenterOfMassVelocity");
+    initializeArray<Mixed4>(kineticEnergies, cc, 2*numReductionGroups, "rigidBodyKineticEnergies");
 }
 
 template <class Mixed, class Mixed4>

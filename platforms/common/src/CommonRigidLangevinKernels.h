@@ -47,6 +47,9 @@ private:
     void setKernelArguments();
     void placeAtoms();
     void uploadTypeParameters();
+    /** (Re)size the arrays stored in the platform's mixed precision. */
+    template <class Mixed, class Mixed4>
+    void initializeMixedArrays(int numTypes);
     template <class Mixed, class Mixed4>
     void uploadStates(const std::vector<BodyState>& states);
     template <class Mixed, class Mixed4>
