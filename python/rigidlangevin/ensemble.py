@@ -94,7 +94,7 @@ def run_ensemble(replica, replicas, base_seed=1, label='ensemble', comm=None, pr
             # Ranks run in step, so rank 0's share tells how far the whole ensemble is.
             elapsed = time.time()-start
             done = count+1
-            sys.stderr.write(f'\r  {label}: replica {done*size}/{replicas} on {size} rank(s), {elapsed:.1f} s elapsed, '
+            sys.stderr.write(f'\r  {label}: replica {min(done*size, replicas)}/{replicas} on {size} rank(s), {elapsed:.1f} s elapsed, '
                              f'{elapsed*(len(mine)-done)/done:.1f} s to go ')
             sys.stderr.flush()
     if progress and rank == 0:
