@@ -84,21 +84,15 @@ def water_setup(waters_pdb, viscosity_poise, integrator_name, step_fs, seed, thr
 
 
 def translational_friction(pdb, system, atoms, viscosity_poise):
-    """eta * tr(Xi_tt)/3 (amu/ps) of one water body, with the radii addRigidBodies gives it."""
+    """eta * tr(Xi_tt)/3 (amu/ps) of one water body: the integrator's default bead model, with the
+    radii addRigidBodies gives the body (Lennard-Jones sigma/2, else the element's radius)."""
+    integrator = rl.RigidLangevinIntegrator(TEMPERATURE*unit.kelvin, viscosity_poise*rl.poise, 0.001*unit.picoseconds)
+    rl.addRigidBodies(integrator, pdb.topology, system, residues=lambda residue: residue.index == 0)
     nonbonded = [f for f in system.getForces() if isinstance(f, mm.NonbondedForce)][0]
-    elements = [atom.element.symbol for atom in pdb.topology.atoms()]
-    radii = []
-    for a in atoms:
-        charge, sigma, epsilon = nonbonded.getParticleParameters(a)
-        radii.append(0.5*sigma._value if epsilon._value != 0 else rl.topology.VAN_DER_WAALS_RADII[elements[a]])
-    tensor = default_body_tensor([pdb.positions[a].value_in_unit(unit.nanometer) for a in atoms], radii)
+    positions = [pdb.positions[a] for a in atoms]
+    radii = [integrator.getParticleRadius(a) or 0.5*nonbonded.getParticleParameters(a)[1] for a in atoms]
+    tensor = rl.hydrodynamics.beads(positions, radii, rl.hydrodynamics.unionVolume(positions, radii)).getMatrix()
     return viscosity_poise*60221.4076*np.trace(tensor[:3, :3])/3
-
-
-def default_body_tensor(positions, radii):
-    """The integrator's default resistance tensor of a multi-particle body, per unit viscosity."""
-    factory = getattr(rl.ResistanceTensor, 'beads', None) or rl.ResistanceTensor.freeDrainingBeads
-    return factory([mm.Vec3(*p) for p in positions], radii).getMatrix()
 
 
 def block_error(values, blocks=10):
