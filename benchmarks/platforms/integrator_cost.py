@@ -52,6 +52,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--sizes', type=int, nargs='+', default=[1000, 10000, 100000, 1000000])
     parser.add_argument('--platforms', nargs='+', default=['Reference', 'CPU', 'OpenCL', 'CUDA'])
+    parser.add_argument('--precisions', nargs='+', default=None, help='GPU precisions (default: single mixed double on CUDA, single double on OpenCL)')
+    parser.add_argument('--name', default='integrator_cost', help='results/<name>.csv and .png (e.g. integrator_cost_gpu for a GPU machine)')
     args = parser.parse_args()
     rows = []
     for name in args.platforms:
@@ -59,6 +61,8 @@ def main():
         precisions = ['single', 'mixed', 'double'] if name in ('OpenCL', 'CUDA') else ['double']
         if name == 'OpenCL':
             precisions = ['single', 'double']
+        if args.precisions and name in ('OpenCL', 'CUDA'):
+            precisions = args.precisions
         for precision in precisions:
             if status is not None:
                 rows.append({'platform': name, 'precision': '-', 'bodies': '', 'note': status})
@@ -84,11 +88,11 @@ def main():
                 rows.append(row)
                 print(row, flush=True)
     columns = ['platform', 'precision', 'bodies', 'ms_per_step', 'body_steps_per_s', 'us_per_body_step', 'langevin_middle_ms_per_step', 'note']
-    write_table('integrator_cost', columns, rows)
-    plot(rows)
+    write_table(args.name, columns, rows)
+    plot(rows, args.name)
 
 
-def plot(rows):
+def plot(rows, name):
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
@@ -113,7 +117,7 @@ def plot(rows):
         ax.grid(True, which='both', alpha=0.3)
         ax.legend(fontsize=8)
     fig.tight_layout()
-    path = f'{RESULTS}/integrator_cost.png'
+    path = f'{RESULTS}/{name}.png'
     fig.savefig(path, dpi=120)
     print(f'(plot: {path})')
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Run the platform benchmarks: integrator cost (1e3 to 1e6 bodies) and the rigid water box against
 # LangevinMiddleIntegrator with SETTLE, on every platform. Tables go to stdout and to
-# benchmarks/platforms/results/*.csv, plots to results/*.png. Takes about 30 minutes on 2 cores.
+# benchmarks/platforms/results/*.csv, plots to results/*.png; with a GPU and ncu, also the
+# integrator's memory bandwidth (gpu_bandwidth.py). Takes about 30 minutes on 2 cores.
 #
 #   bash benchmarks/platforms/run.sh
 set -euo pipefail
@@ -14,3 +15,5 @@ echo "==> integrator cost"
 "$ROOT/.venv/bin/python" integrator_cost.py "$@" 2>&1 | grep -v "Using an unsupported OpenCL implementation"
 echo "==> rigid water box"
 "$ROOT/.venv/bin/python" water_box.py 2>&1 | grep -v "Using an unsupported OpenCL implementation"
+echo "==> GPU memory bandwidth (CUDA and Nsight Compute only)"
+"$ROOT/.venv/bin/python" gpu_bandwidth.py

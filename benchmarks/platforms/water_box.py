@@ -50,6 +50,7 @@ def main():
     parser.add_argument('--box', type=float, default=5.0, help='box edge in nm (5 nm: about 4100 waters)')
     parser.add_argument('--platforms', nargs='+', default=['CPU', 'OpenCL', 'CUDA'])
     parser.add_argument('--steps', type=int, default=0, help='steps per timing block (default: by platform)')
+    parser.add_argument('--name', default='water_box', help='results/<name>.csv and .png (e.g. water_box_gpu for a GPU machine)')
     args = parser.parse_args()
     system, positions, waters = build_water_box(args.box)
     print(f'{len(waters)} waters, {system.getNumParticles()} particles, PME, cutoff 0.9 nm, 2 fs', flush=True)
@@ -78,7 +79,7 @@ def main():
                 contexts[kind] = (integrator, context)
             for round in range(3):
                 for kind, (integrator, context) in contexts.items():
-                    t = time_per_step(integrator, context, steps, repeats=1)
+                    t = time_per_step(integrator, context, steps, repeats=1, subtract_sync=False)
                     timings[kind] = min(timings.get(kind, float('inf')), t)
             rigid, middle = timings['rigid'], timings['middle']
             row = {'platform': name, 'precision': precision or 'double/single (CPU platform)', 'waters': len(waters),
@@ -90,11 +91,11 @@ def main():
             del contexts
     columns = ['platform', 'precision', 'waters', 'rigid_langevin_ms_per_step', 'langevin_middle_settle_ms_per_step', 'ratio',
                'rigid_ns_per_day', 'middle_ns_per_day', 'note']
-    write_table('water_box', columns, rows)
-    plot(rows)
+    write_table(args.name, columns, rows)
+    plot(rows, args.name)
 
 
-def plot(rows):
+def plot(rows, name):
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
@@ -116,7 +117,7 @@ def plot(rows):
     ax.set_title(title, fontsize=10)
     ax.legend(fontsize=8, loc='lower right')
     fig.tight_layout()
-    path = f'{RESULTS}/water_box.png'
+    path = f'{RESULTS}/{name}.png'
     fig.savefig(path, dpi=120)
     print(f'(plot: {path})')
 
