@@ -16,3 +16,28 @@ def test_speed_vs_error_study_quick(tmp_path):
     assert all(float(r['ns/day']) > 0 for r in rows if r['status'] == 'ok')
     assert any(r['status'].startswith('refused') for r in rows if r['integrator'] == 'Original')
     assert (tmp_path/'table.md').exists() and (tmp_path/'error_vs_speed_s1_0.003P.png').stat().st_size > 10000
+    assert 'D translational (nm^2/ps) +-' in rows[0], 'S1 gives standard errors from groups of bodies'
+
+
+def test_speed_vs_error_verdicts_separate_noise_from_error():
+    """The study's verdict on its targets: a default scheme worse than a competitor beyond two
+    standard errors fails; worse within them (noise) does not; so does a configurational error
+    above 1.5 times the best and a temperature off by 0.2%."""
+    sys.path.insert(0, str(ROOT/'benchmarks'/'speed_vs_error'))
+    import report
+
+    def point(integrator, step, error, spread, temperature=300.0):
+        return {'scene': 'S2 water', 'viscosity (P)': 0.1, 'integrator': integrator, 'step (fs)': step, 'status': 'ok',
+                'ns/day': 50.0*step, 'error D translational (nm^2/ps)': error, 'error D translational (nm^2/ps) +-': spread,
+                'error potential per molecule (kJ/mol)': error, 'error potential per molecule (kJ/mol) +-': spread,
+                'T translational (K)': temperature, 'T rotational (K)': temperature}
+    within_noise = report.targets([point('ExactFlow', 2.0, 0.05, 0.02), point('BAOAB', 2.0, 0.02, 0.01)], [])
+    assert 'D translational (nm^2/ps): ExactFlow front on or below every competitor: met' in within_noise
+    assert 'potential per molecule (kJ/mol): ExactFlow within 1.5x of the best: met' in within_noise
+    beyond = report.targets([point('ExactFlow', 2.0, 0.20, 0.01, temperature=301.0), point('BAOAB', 2.0, 0.02, 0.01)], [])
+    assert 'front on or below every competitor: NOT met: below it BAOAB 2.0 fs' in beyond
+    assert 'within 1.5x of the best: NOT met at 2.0 fs' in beyond
+    assert '|<T> - T0| at 2 fs = 0.333 %' in beyond and beyond.count('NOT met') == 3
+    stability = report.targets([], [{'viscosity (P)': '0.1', 'integrator': 'ExactFlow', 'largest stable step (fs)': '1.0'},
+                                    {'viscosity (P)': '0.1', 'integrator': 'Original', 'largest stable step (fs)': '0.6'}])
+    assert 'at least twice: NOT met' in stability

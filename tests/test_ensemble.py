@@ -7,7 +7,7 @@ import textwrap
 import numpy as np
 import pytest
 
-from rigidlangevin.ensemble import run_ensemble
+from rigidlangevin.ensemble import broadcast, run_ensemble
 
 # A replica: free Stokes particles at 300 K; returns the mean kinetic temperature and the mean
 # square displacement at three lags, from its own seed.
@@ -43,12 +43,18 @@ def test_serial_ensemble():
     assert result['seed'][0] == pytest.approx(11.5)
     # Different seeds give different replicas.
     assert len({v['temperature'] for v in result.values}) == 4
+    # Without MPI, broadcast hands the value back.
+    assert broadcast([1, 2]) == [1, 2]
 
 
 def test_mpi_ensemble_on_two_ranks(tmp_path):
     script = tmp_path/'ensemble.py'
     script.write_text(REPLICA+textwrap.dedent('''
-        from rigidlangevin.ensemble import run_ensemble
+        from mpi4py import MPI
+        from rigidlangevin.ensemble import broadcast, run_ensemble
+        # Rank 0's value reaches every rank.
+        shared = broadcast({'start': 42} if MPI.COMM_WORLD.Get_rank() == 0 else None)
+        print('rank', MPI.COMM_WORLD.Get_rank(), 'shared', shared['start'])
         result = run_ensemble(replica, replicas=4, base_seed=10)
         if result is not None:
             print('seeds', result.seeds, 'temperature', result['temperature'][0], result['temperature'][1])
@@ -63,6 +69,7 @@ def test_mpi_ensemble_on_two_ranks(tmp_path):
     assert result.returncode == 0, result.stderr
     line = [l for l in result.stdout.splitlines() if l.startswith('seeds')]
     assert len(line) == 1 and 'seeds [10, 11, 12, 13]' in line[0]
+    assert sorted(l for l in result.stdout.splitlines() if l.startswith('rank')) == ['rank 0 shared 42', 'rank 1 shared 42']
     # The same replicas run serially give the same reduced result.
     namespace = {}
     exec(REPLICA, namespace)

@@ -1,10 +1,23 @@
-"""Tables and plots of the speed-against-error study."""
+"""Tables, plots and the verdict on the targets of the speed-against-error study.
+
+Errors come with a standard error ('error X +-': measurement and truth combined). A difference
+between two integrators counts only when it exceeds the 95% two-sided Student-t quantile times the
+standard error of the difference, with the degrees of freedom of the standard errors (replicas - 1
+in S2, where three replicas give 2 and the quantile is 4.3; groups of bodies or blocks - 1 = 9 in
+S1): below that the study cannot tell them apart, and says so rather than ranking noise.
+"""
 import csv
+import math
 
 import numpy as np
 
 DYNAMICAL = ['D translational (nm^2/ps)', 'orientational time (ps)', 'VACF']
 CONFIGURATIONAL = ['T translational (K)', 'T rotational (K)', 'potential per molecule (kJ/mol)', 'T configurational (K)', 'O-O RDF']
+DEFAULT, ORIGINAL = 'ExactFlow', 'Original'
+ABSOLUTE = ('VACF', 'O-O RDF')  # root-mean-square differences, not relative errors
+# 95% two-sided Student-t quantiles by degrees of freedom (2.0 beyond the table).
+T_QUANTILE = {1: 12.71, 2: 4.30, 3: 3.18, 4: 2.78, 5: 2.57, 6: 2.45, 7: 2.36, 8: 2.31, 9: 2.26, 10: 2.23,
+              15: 2.13, 20: 2.09, 30: 2.04}
 
 
 def write(out, rows, stability):
@@ -21,27 +34,105 @@ def write(out, rows, stability):
             writer = csv.DictWriter(f, fieldnames=list(stability[0]))
             writer.writeheader()
             writer.writerows(stability)
-    table = markdown(rows, stability)
+    table = markdown(rows, stability)+'\n'+targets(rows, stability)
     (out/'table.md').write_text(table)
     print(table)
     plot(out, rows)
 
 
+def cell(r, observable):
+    if 'error '+observable not in r:
+        return ''
+    e, s = r['error '+observable], r.get('error '+observable+' +-')
+    if observable in ABSOLUTE:
+        return f'{e:.4f}'+(f' ± {s:.4f}' if s else '')
+    return f'{100*e:.2f}'+(f' ± {100*s:.2f}' if s else '')+' %'
+
+
 def markdown(rows, stability):
     observables = [o for o in DYNAMICAL+CONFIGURATIONAL if any('error '+o in r for r in rows)]
-    lines = ['| scene | viscosity (P) | integrator | step (fs) | ns/day | '+' | '.join('error '+o for o in observables)+' |',
+    lines = ['Errors against the truth (exact for S1, the 0.5 fs reference for S2), ± one standard error;',
+             'VACF and O-O RDF: root-mean-square difference of the normalized function. Standard errors: over',
+             'three replicas in S2 (two degrees of freedom, so the verdicts below take differences beyond 4.3 of',
+             'them as real), over 10 groups of bodies (or blocks) in S1.', '',
+             '| scene | viscosity (P) | integrator | step (fs) | ns/day | '+' | '.join('error '+o for o in observables)+' |',
              '|'+'---|'*(5+len(observables))]
     for r in rows:
         if r['status'] != 'ok':
             cells = [r['status']]+['']*(len(observables))
         else:
-            cells = [f"{r.get('ns/day', float('nan')):.1f}"]+[f"{r['error '+o]:.2%}" if 'error '+o in r and o not in ('VACF', 'O-O RDF')
-                                                               else (f"{r['error '+o]:.4f}" if 'error '+o in r else '') for o in observables]
+            cells = [f"{r.get('ns/day', float('nan')):.1f}"]+[cell(r, o) for o in observables]
         lines.append(f"| {r['scene']} | {r['viscosity (P)']} | {r['integrator']} | {r['step (fs)']} | "+' | '.join(cells)+' |')
     if stability:
         lines += ['', '| viscosity (P) | integrator | largest stable step (fs) |', '|---|---|---|']
         for s in stability:
             lines.append(f"| {s['viscosity (P)']} | {s['integrator']} | {s['largest stable step (fs)']} |")
+    return '\n'.join(lines)+'\n'
+
+
+def _error(r, observable):
+    return r['error '+observable], r.get('error '+observable+' +-', 0.0) or 0.0
+
+
+def quantile(*points):
+    """The t quantile for a difference of these points' errors: the fewest degrees of freedom
+    (replicas - 1 in S2; 10 groups of bodies or blocks - 1 in S1)."""
+    dof = min(int(p.get('replicas', 10))-1 for p in points)
+    return T_QUANTILE.get(dof) or T_QUANTILE[max(k for k in T_QUANTILE if k <= dof)]
+
+
+def targets(rows, stability):
+    """The issue's targets, checked on these results, one line per target and viscosity."""
+    lines = ['## Targets', '', 'A difference counts where it exceeds the 95% Student-t quantile times its standard error.', '']
+    groups = sorted({(r['scene'], r['viscosity (P)']) for r in rows if 'reference' not in r['scene']})
+    for scene, viscosity in groups:
+        selected = [r for r in rows if (r['scene'], r['viscosity (P)']) == (scene, viscosity) and r['status'] == 'ok']
+        default = [r for r in selected if r['integrator'] == DEFAULT]
+        others = [r for r in selected if r['integrator'] != DEFAULT]
+        # Dynamical: every competitor point must be matched by a default point at least as fast
+        # (within 10% timing noise) and no worse beyond the noise of the difference.
+        for observable in [o for o in DYNAMICAL if any('error '+o in r for r in selected)]:
+            beaten = []
+            for other in (r for r in others if 'error '+observable in r):
+                e, s = _error(other, observable)
+                matched = any(_error(d, observable)[0] <= e+quantile(d, other)*math.hypot(s, _error(d, observable)[1])
+                              for d in default if 'error '+observable in d and d['ns/day'] >= 0.9*other['ns/day'])
+                if not matched:
+                    beaten.append(f"{other['integrator']} {other['step (fs)']} fs")
+            verdict = 'met' if not beaten else 'NOT met: below it '+', '.join(beaten)
+            lines.append(f'- {scene}, {viscosity} P, {observable}: {DEFAULT} front on or below every competitor: {verdict}')
+        # Configurational: within 1.5 times the best at the same step, beyond the noise.
+        for observable in [o for o in CONFIGURATIONAL if any('error '+o in r for r in selected)]:
+            worse = []
+            for d in (r for r in default if 'error '+observable in r):
+                same = [r for r in others if r['step (fs)'] == d['step (fs)'] and 'error '+observable in r]
+                if not same:
+                    continue
+                best = min(same, key=lambda r: _error(r, observable)[0])
+                e, s = _error(d, observable)
+                eb, sb = _error(best, observable)
+                if e > 1.5*eb+quantile(d, best)*math.hypot(s, 1.5*sb):
+                    worse.append(f"{d['step (fs)']} fs ({cell(d, observable)} vs {best['integrator']} {cell(best, observable)})")
+            verdict = 'met' if not worse else 'NOT met at '+'; '.join(worse)
+            lines.append(f'- {scene}, {viscosity} P, {observable}: {DEFAULT} within 1.5x of the best: {verdict}')
+        # Temperature at 2 fs: the mean of the translational and rotational kinetic temperatures
+        # (three degrees of freedom each per body).
+        at2 = [d for d in default if d['step (fs)'] == 2.0 and 'T translational (K)' in d and 'T rotational (K)' in d]
+        for d in at2:
+            t = 0.5*(d['T translational (K)']+d['T rotational (K)'])
+            s = 0.5*math.hypot(d.get('T translational (K) +-', 0.0), d.get('T rotational (K) +-', 0.0))
+            deviation = abs(t-300.0)/300.0
+            lines.append(f"- {scene}, {viscosity} P: |<T> - T0| at 2 fs = {100*deviation:.3f} % (<T> = {t:.2f} ± {s:.2f} K; "
+                         f"target below 0.2 %): {'met' if deviation < 0.002 else 'NOT met'}")
+    if stability:
+        by = {(float(s['viscosity (P)']), s['integrator']): float(s['largest stable step (fs)']) for s in stability}
+        for viscosity in sorted({v for v, _ in by}):
+            d, o = by.get((viscosity, DEFAULT)), by.get((viscosity, ORIGINAL))
+            if d is None or o is None:
+                continue
+            ok = d >= 2*o
+            lines.append(f"- stability, {viscosity} P: {DEFAULT} {d:g} fs, {ORIGINAL} {o:g} fs"
+                         f"{' (refused at every step)' if o == 0 else ''}: at least twice: {'met' if ok else 'NOT met'}")
     return '\n'.join(lines)+'\n'
 
 
@@ -60,18 +151,21 @@ def plot(out, rows):
         fig, axes = plt.subplots(lines, columns, figsize=(4*columns, 3.2*lines), squeeze=False)
         for ax, observable in zip(axes.flat, observables):
             for integrator in sorted({r['integrator'] for r in selected}):
-                points = sorted((r['ns/day'], r['error '+observable]) for r in selected if r['integrator'] == integrator and 'error '+observable in r)
+                points = sorted((r['ns/day'], *_error(r, observable)) for r in selected
+                                if r['integrator'] == integrator and 'error '+observable in r)
                 if points:
-                    ax.plot([p[0] for p in points], [max(p[1], 1e-5) for p in points], 'o-', label=integrator)
+                    x, e, s = (np.array(v) for v in zip(*points))
+                    ax.errorbar(x, np.maximum(e, 1e-5), yerr=[np.minimum(s, 0.9*np.maximum(e, 1e-5)), s],
+                                fmt='o-', capsize=2, label=integrator)
             ax.set_xscale('log')
             ax.set_yscale('log')
             ax.set_xlabel('ns/day')
-            ax.set_ylabel('error')
+            ax.set_ylabel('error' if observable in ABSOLUTE else 'relative error')
             ax.set_title(observable, fontsize=9)
         for ax in list(axes.flat)[len(observables):]:
             ax.axis('off')
         axes.flat[0].legend(fontsize=7)
-        fig.suptitle(f'{scene}, {viscosity} P: error against speed (step sizes along each line)')
+        fig.suptitle(f'{scene}, {viscosity} P: error against speed (step sizes along each line; bars: one standard error)')
         fig.tight_layout()
         name = scene.split()[0].lower()
         fig.savefig(out/f'error_vs_speed_{name}_{viscosity}P.png', dpi=100)

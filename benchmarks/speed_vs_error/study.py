@@ -8,15 +8,21 @@ Scenes
       truth is exact (kinetic temperatures, kT (eta Xi)^-1 diffusion, Favro's orientational times,
       the exact velocity autocorrelation).
   S2  the flagship's 256 rigid TIP3P waters (PME 0.9 nm, LJ switched from 0.8 nm) at 0.01, 0.1 and
-      1 poise: the truth is a small-step (0.5 fs) ExactFlow reference run.
+      1 poise: the truth is small-step (0.5 fs) ExactFlow reference runs. Every run starts from one
+      of a few configurations equilibrated at 0.01 P (the configurational equilibrium does not
+      depend on the viscosity; at 1 P reaching it would take nanoseconds), replica r of every
+      integrator from start r; the configurational truth pools the references of all viscosities.
+Every measured value carries a standard error: over replicas (S2) or over groups of independent
+bodies (S1); errors are given with the standard error of measurement and truth combined.
 Integrators: RigidLangevinIntegrator's ExactFlow, BAOAB and Original schemes, and OpenMM's
 LangevinMiddleIntegrator with SETTLE and per-atom friction giving the same translational friction.
 Also the largest stable step of each integrator per viscosity (1e5 steps of 64 rigid waters without
 blowing up).
 
-    python benchmarks/speed_vs_error/study.py                    # everything (about 105 min on 2 cores)
-    mpirun -np 2 python benchmarks/speed_vs_error/study.py       # the same, runs spread over 2 ranks
-    python benchmarks/speed_vs_error/study.py --quick            # a few ps per run, to check it works
+    python benchmarks/speed_vs_error/study.py                    # everything, on one rank
+    mpirun -np 2 python benchmarks/speed_vs_error/study.py       # the same over 2 ranks (about 75 min on 2 cores)
+    ... study.py --parts s2                                      # one part; the other parts' rows are kept
+    python benchmarks/speed_vs_error/study.py --quick            # a few ps per run, to check it works (5 min)
 
 Writes results to --out (default out/speed_vs_error): results.csv, stability.csv, table.md and
 error_vs_speed_*.png.
@@ -35,7 +41,7 @@ import openmm.app as app
 import openmm.unit as unit
 
 import rigidlangevin as rl
-from rigidlangevin.ensemble import run_ensemble
+from rigidlangevin.ensemble import broadcast, run_ensemble
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import observables as obs  # noqa: E402
@@ -49,8 +55,9 @@ WATER_SWITCH, WATER_CUTOFF = 0.8, 0.9
 
 
 # ---------------------------------------------------------------------------- scene S2: water
-def water_setup(waters_pdb, viscosity_poise, integrator_name, step_fs, seed, threads):
-    """A Context of rigid TIP3P water under the named integrator, and the molecule layout."""
+def water_setup(waters_pdb, viscosity_poise, integrator_name, step_fs, seed, threads, start=None):
+    """A Context of rigid TIP3P water under the named integrator, and the molecule layout; from the
+    PDB's positions at T0, or from start = (positions, velocities) in nm and nm/ps."""
     pdb = app.PDBFile(str(waters_pdb))
     forcefield = app.ForceField('tip3p.xml')
     # The 64-water box of the stability study is too small for the 0.9 nm cutoff.
@@ -75,9 +82,13 @@ def water_setup(waters_pdb, viscosity_poise, integrator_name, step_fs, seed, thr
     integrator.setRandomNumberSeed(seed)
     platform = mm.Platform.getPlatformByName('CPU')
     context = mm.Context(system, integrator, platform, {'Threads': str(threads)})
-    context.setPositions(pdb.positions)
-    context.applyConstraints(1e-10)
-    context.setVelocitiesToTemperature(TEMPERATURE, seed)
+    if start is None:
+        context.setPositions(pdb.positions)
+        context.applyConstraints(1e-10)
+        context.setVelocitiesToTemperature(TEMPERATURE, seed)
+    else:
+        context.setPositions(start[0])
+        context.setVelocities(start[1])
     nonbonded = [f for f in system.getForces() if isinstance(f, mm.NonbondedForce)][0]
     charge, sigma, epsilon = nonbonded.getParticleParameters(indices[0][0])
     return context, integrator, molecules, (sigma._value, epsilon._value), np.array([box[i][i].value_in_unit(unit.nanometer) for i in range(3)])
@@ -105,6 +116,11 @@ def block_error(values, blocks=10):
     return float(means.std(ddof=1)/math.sqrt(blocks))
 
 
+def standard_error(values):
+    values = np.asarray(values, dtype=float)
+    return float(values.std(ddof=1)/math.sqrt(len(values))) if len(values) > 1 else float('nan')
+
+
 def refusal(error):
     text = str(error)
     if 'Original scheme cannot integrate' in text:
@@ -112,11 +128,27 @@ def refusal(error):
     return 'blew up: '+text[:80]
 
 
+def prepare_starts(args):
+    """Equilibrated starting configurations (positions, velocities) for the S2 replicas: the PDB's
+    box relaxed at 0.01 P, where rotation decorrelates in picoseconds, then one snapshot every
+    start_spacing_ps. Runs on one rank, with every core."""
+    context, integrator, _, _, _ = water_setup(ROOT/'examples'/'data'/'water256.pdb', 0.01, 'ExactFlow', 1.0, 5,
+                                               os.cpu_count() or 1)
+    integrator.step(int(round(args.start_equilibration_ps/0.001)))
+    starts = []
+    for _ in range(args.replicas):
+        integrator.step(int(round(args.start_spacing_ps/0.001)))
+        state = context.getState(getPositions=True, getVelocities=True)
+        starts.append((state.getPositions(asNumpy=True)._value, state.getVelocities(asNumpy=True)._value))
+    return starts
+
+
 def run_water(task):
     """One S2 run: equilibrate, then sample every `sample_fs` (positions and velocities) and every
     tenth sample the forces and energy; returns observables and the cost of the steps alone."""
     viscosity, name, step_fs, seed, args = task['viscosity'], task['integrator'], task['step_fs'], task['seed'], task['args']
-    context, integrator, molecules, (sigma, epsilon), box = water_setup(ROOT/'examples'/'data'/'water256.pdb', viscosity, name, step_fs, seed, args.threads)
+    context, integrator, molecules, (sigma, epsilon), box = water_setup(ROOT/'examples'/'data'/'water256.pdb', viscosity, name, step_fs, seed,
+                                                                        args.threads, args.starts[task['replica']])
     every = max(1, int(round(args.sample_fs/step_fs)))
     dt = every*step_fs*1e-3
     try:
@@ -178,6 +210,7 @@ def coupled_tensor():
 BODY_SHAPE = np.array([[0, 0, 0], [0.12, 0, 0], [0.02, 0.09, 0], [0.03, 0.02, 0.07]])
 BODY_MASSES = np.array([4.0, 3.0, 3.5, 7.5])  # 18 amu, water-sized inertia
 BODY_OFFSET = np.array([0.05, 0.03, 0.01])  # tensor origin relative to the centre of mass
+S1_GROUPS = 10  # groups of bodies for standard errors
 S1_VISCOSITY = 0.003  # poise: mode rates lambda h from 0.05 to 2.7 at 2 fs, orientational time 4.5 ps
 
 
@@ -262,14 +295,15 @@ def run_free_bodies(task):
             axes.append(np.einsum('bij,jk->bik', rotations, truth['axes']))
     except mm.OpenMMException as e:
         return {'status': refusal(e)}
-    times = []
-    for k in range(3):
-        times.append(obs.correlation_time([a[:, :, k] for a in axes], dt, samples//2))
+    # The bodies are independent: groups of them give independent estimates, hence standard errors.
     lag1, lag2 = min(int(round(2*tau/dt)), samples//4), min(int(round(6*tau/dt)), samples//2)
+    groups = np.array_split(np.arange(n), S1_GROUPS)
+    diffusion = [obs.diffusion_from_msd([c[g] for c in centers], dt, lag1, lag2) for g in groups]
+    times = [np.mean([obs.correlation_time([a[g, :, k] for a in axes], dt, samples//2) for k in range(3)]) for g in groups]
     return {'status': 'ok', 'T translational (K)': np.mean(t_trans), 'T translational (K) +-': block_error(t_trans),
             'T rotational (K)': np.mean(t_rot), 'T rotational (K) +-': block_error(t_rot),
-            'D translational (nm^2/ps)': obs.diffusion_from_msd(centers, dt, lag1, lag2),
-            'orientational time (ps)': np.mean(times),
+            'D translational (nm^2/ps)': np.mean(diffusion), 'D translational (nm^2/ps) +-': standard_error(diffusion),
+            'orientational time (ps)': np.mean(times), 'orientational time (ps) +-': standard_error(times),
             'ns/day': samples*every*step_fs*1e-6/(stepping/86400),
             's per body-step': stepping/(samples*every*n)}
 
@@ -305,15 +339,44 @@ def distribute(function, tasks, label):
     return [v['payload'] for v in result.values]
 
 
+def combine(results):
+    """One value per observable from replicas: the mean, with the standard error over replicas as
+    'name +-' (scalars); arrays (RDF, VACF) are averaged. The first failure wins the status."""
+    failed = [r for r in results if r.get('status') != 'ok']
+    if failed:
+        return {'status': failed[0].get('status', 'failed')}
+    combined = {'status': 'ok', 'replicas': len(results)}
+    for key, value in results[0].items():
+        if key == 'status' or key.endswith(' +-'):
+            continue
+        values = [r[key] for r in results]
+        combined[key] = np.mean(values, axis=0) if not np.isscalar(value) else float(np.mean(values))
+        if key not in ('ns/day', 's per body-step') and len(values) > 1:
+            spread = np.std(values, axis=0, ddof=1)/math.sqrt(len(values))
+            combined[key+' +-'] = float(spread) if np.isscalar(value) else spread
+    return combined
+
+
 def errors(measured, truth):
+    """Relative errors of scalars (with their standard error, measurement and truth combined) and
+    root-mean-square differences of arrays."""
     e = {}
+    if measured.get('status') != 'ok':
+        return e
     for key, value in truth.items():
-        if key not in measured or measured.get('status') != 'ok':
+        if key not in measured or key.endswith(' +-'):
             continue
         if key in ('O-O RDF', 'VACF'):
             error = float(np.sqrt(np.mean((np.asarray(measured[key])-np.asarray(value))**2)))
+            # The noise floor of that difference: what it would be from the standard errors alone.
+            noise = np.hypot(measured.get(key+' +-', 0.0), truth.get(key+' +-', 0.0))
+            if np.any(noise > 0):
+                e[key+' +-'] = float(np.sqrt(np.mean(np.square(noise))))
         elif np.isscalar(value):
             error = abs(measured[key]-value)/abs(value)
+            spread = math.hypot(measured.get(key+' +-', 0.0), truth.get(key+' +-', 0.0))/abs(value)
+            if np.isfinite(spread) and spread > 0:
+                e[key+' +-'] = spread
         else:
             continue
         if np.isfinite(error):  # too short a run gives no diffusion, say
@@ -332,17 +395,22 @@ def main(argv=None):
     if args.threads == 0:
         args.threads = max(1, (os.cpu_count() or 1)//ranks)
     args.sample_fs = 10.0
-    args.equilibration_ps, args.production_ps, args.reference_ps = (0.5, 2.0, 4.0) if args.quick else (5.0, 40.0, 100.0)
-    args.free_bodies, args.free_body_time = (10, 4) if args.quick else (50, 50)
+    args.replicas = 2 if args.quick else 3
+    args.start_equilibration_ps, args.start_spacing_ps = (0.5, 0.5) if args.quick else (40.0, 20.0)
+    args.equilibration_ps, args.production_ps, args.reference_ps = (0.2, 1.5, 2.0) if args.quick else (1.0, 15.0, 25.0)
+    args.free_bodies, args.free_body_time = (10, 4) if args.quick else (100, 100)
     args.stability_steps = 200 if args.quick else 100000
     viscosities = [0.01, 0.1, 1.0]
-    water_steps = [1.0, 2.0, 3.0, 4.0]
+    water_steps = [1.0, 2.0, 4.0]
     free_steps = [1.0, 2.0, 4.0, 8.0, 16.0]
     parts = set(args.parts.split(','))
     rows, stability = [], []
 
     if 's1' in parts:
-        tasks = [{'integrator': name, 'step_fs': h, 'seed': 11, 'args': args} for name in SCHEMES for h in free_steps]
+        # ExactFlow's step costs 1.3x BAOAB's on force-free bodies (two half flows): one more step
+        # size lets its front reach the competitors' fastest point.
+        tasks = [{'integrator': name, 'step_fs': h, 'seed': 11, 'args': args} for name in SCHEMES
+                 for h in free_steps+([2*free_steps[-1]] if name == 'ExactFlow' else [])]
         results = distribute(run_free_bodies, tasks, 'S1 free coupled bodies')
         if results is not None:
             truth = s1_truth()
@@ -350,22 +418,31 @@ def main(argv=None):
                 rows.append(row('S1 free coupled bodies', S1_VISCOSITY, task, result, errors(result, truth)))
 
     if 's2' in parts:
-        reference_tasks = [{'viscosity': eta, 'integrator': 'ExactFlow', 'step_fs': 0.5, 'seed': 101, 'args': args} for eta in viscosities]
+        starts = distribute(lambda task: prepare_starts(args), [None], 'S2 starting configurations (0.01 P)')
+        args.starts = broadcast(starts[0] if starts is not None else None)
+        reference_tasks = [{'viscosity': eta, 'integrator': 'ExactFlow', 'step_fs': 0.5, 'seed': 101+r, 'replica': r, 'args': args}
+                           for eta in viscosities for r in range(args.replicas)]
         saved = args.production_ps
         args.production_ps = args.reference_ps
         references = distribute(run_water, reference_tasks, 'S2 reference runs (0.5 fs)')
         args.production_ps = saved
-        tasks = [{'viscosity': eta, 'integrator': name, 'step_fs': h, 'seed': 7, 'args': args}
-                 for eta in viscosities for name in INTEGRATORS for h in water_steps]
+        tasks = [{'viscosity': eta, 'integrator': name, 'step_fs': h, 'seed': 7+r, 'replica': r, 'args': args}
+                 for eta in viscosities for name in INTEGRATORS for h in water_steps for r in range(args.replicas)]
         results = distribute(run_water, tasks, 'S2 rigid water')
         if results is not None:
-            truth_by_viscosity = {task['viscosity']: ref for task, ref in zip(reference_tasks, references)}
-            for task, ref in zip(reference_tasks, references):
-                rows.append(row('S2 water (reference)', task['viscosity'], task, ref, {}))
-            for task, result in zip(tasks, results):
-                truth = {k: v for k, v in truth_by_viscosity[task['viscosity']].items() if k not in ('status', 'ns/day', 's per body-step')}
+            # Configurational observables do not depend on the viscosity: their truth pools every reference.
+            pooled = combine(references)
+            for eta in viscosities:
+                reference = combine([ref for task, ref in zip(reference_tasks, references) if task['viscosity'] == eta])
+                rows.append(row('S2 water (reference)', eta, {'integrator': 'ExactFlow', 'step_fs': 0.5}, reference, {}))
+                truth = {k: v for k, v in reference.items() if k.split(' +-')[0] in ('D translational (nm^2/ps)', 'orientational time (ps)', 'VACF')}
+                truth.update({k: v for k, v in pooled.items() if k.split(' +-')[0] in ('potential per molecule (kJ/mol)', 'T configurational (K)', 'O-O RDF')})
                 truth['T translational (K)'] = truth['T rotational (K)'] = TEMPERATURE  # exact for every integrator
-                rows.append(row('S2 water', task['viscosity'], task, result, errors(result, truth)))
+                for name in INTEGRATORS:
+                    for h in water_steps:
+                        measured = combine([result for task, result in zip(tasks, results)
+                                            if (task['viscosity'], task['integrator'], task['step_fs']) == (eta, name, h)])
+                        rows.append(row('S2 water', eta, {'integrator': name, 'step_fs': h}, measured, errors(measured, truth)))
 
     if 'stability' in parts:
         candidates = [0.1, 0.2, 0.5, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 10.0]
@@ -379,10 +456,30 @@ def main(argv=None):
                 stability.append({'viscosity (P)': task['viscosity'], 'integrator': task['integrator'],
                                   'largest stable step (fs)': result['largest stable step (fs)']})
 
+    previous = pathlib.Path(args.out)/'results.csv'
+    if rows and previous.exists():
+        # A run of some parts keeps the other scenes' rows of an earlier run.
+        scenes = {r['scene'].split(' (')[0] for r in rows}
+        with open(previous) as f:
+            kept = [{k: number(v) for k, v in r.items() if v != ''} for r in csv.DictReader(f)
+                    if r['scene'].split(' (')[0] not in scenes]
+        rows = [r for r in rows if r['scene'].startswith('S1')]+kept+[r for r in rows if not r['scene'].startswith('S1')]
+        rows.sort(key=lambda r: r['scene'][:2])
+    if rows and not stability and (pathlib.Path(args.out)/'stability.csv').exists():
+        # A run of some parts keeps the stability table of an earlier full run.
+        with open(pathlib.Path(args.out)/'stability.csv') as f:
+            stability = list(csv.DictReader(f))
     if rows or stability:
         import report
         report.write(pathlib.Path(args.out), rows, stability)
     return 0
+
+
+def number(text):
+    try:
+        return float(text)
+    except ValueError:
+        return text
 
 
 def row(scene, viscosity, task, result, error):

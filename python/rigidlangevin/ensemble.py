@@ -39,6 +39,13 @@ def _communicator():
     return MPI.COMM_WORLD
 
 
+def broadcast(value, comm=None):
+    """Rank 0's `value` on every rank (the value itself without MPI): for inputs that one rank
+    prepares and every replica needs, such as equilibrated starting configurations."""
+    comm = comm if comm is not None else _communicator()
+    return comm.bcast(value, root=0) if comm is not None else value
+
+
 class EnsembleResult(dict):
     """Observable name -> (mean, standard error) for every numeric observable; also the number of
     replicas, their seeds and every replica's own values (in `values`, anything they returned)."""
