@@ -45,6 +45,7 @@ from rigidlangevin.ensemble import broadcast, run_ensemble
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import observables as obs  # noqa: E402
+import report  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 TEMPERATURE = 300.0
@@ -435,9 +436,10 @@ def main(argv=None):
             for eta in viscosities:
                 reference = combine([ref for task, ref in zip(reference_tasks, references) if task['viscosity'] == eta])
                 rows.append(row('S2 water (reference)', eta, {'integrator': 'ExactFlow', 'step_fs': 0.5}, reference, {}))
-                truth = {k: v for k, v in reference.items() if k.split(' +-')[0] in ('D translational (nm^2/ps)', 'orientational time (ps)', 'VACF')}
-                truth.update({k: v for k, v in pooled.items() if k.split(' +-')[0] in ('potential per molecule (kJ/mol)', 'T configurational (K)', 'O-O RDF')})
-                truth['T translational (K)'] = truth['T rotational (K)'] = TEMPERATURE  # exact for every integrator
+                exact = {'T translational (K)': TEMPERATURE, 'T rotational (K)': TEMPERATURE}  # for every integrator
+                truth = {k: v for k, v in reference.items() if k.split(' +-')[0] in report.DYNAMICAL}
+                truth.update({k: v for k, v in pooled.items() if k.split(' +-')[0] in report.CONFIGURATIONAL and k.split(' +-')[0] not in exact})
+                truth.update(exact)
                 for name in INTEGRATORS:
                     for h in water_steps:
                         measured = combine([result for task, result in zip(tasks, results)
@@ -456,22 +458,20 @@ def main(argv=None):
                 stability.append({'viscosity (P)': task['viscosity'], 'integrator': task['integrator'],
                                   'largest stable step (fs)': result['largest stable step (fs)']})
 
-    previous = pathlib.Path(args.out)/'results.csv'
-    if rows and previous.exists():
-        # A run of some parts keeps the other scenes' rows of an earlier run.
+    out = pathlib.Path(args.out)
+    if rows and (out/'results.csv').exists():
+        # A run of some parts keeps the other scenes' rows of an earlier run (S1 before S2).
         scenes = {r['scene'].split(' (')[0] for r in rows}
-        with open(previous) as f:
+        with open(out/'results.csv') as f:
             kept = [{k: number(v) for k, v in r.items() if v != ''} for r in csv.DictReader(f)
                     if r['scene'].split(' (')[0] not in scenes]
-        rows = [r for r in rows if r['scene'].startswith('S1')]+kept+[r for r in rows if not r['scene'].startswith('S1')]
-        rows.sort(key=lambda r: r['scene'][:2])
-    if rows and not stability and (pathlib.Path(args.out)/'stability.csv').exists():
+        rows = sorted(rows+kept, key=lambda r: r['scene'][:2])
+    if rows and not stability and (out/'stability.csv').exists():
         # A run of some parts keeps the stability table of an earlier full run.
-        with open(pathlib.Path(args.out)/'stability.csv') as f:
+        with open(out/'stability.csv') as f:
             stability = list(csv.DictReader(f))
     if rows or stability:
-        import report
-        report.write(pathlib.Path(args.out), rows, stability)
+        report.write(out, rows, stability)
     return 0
 
 
