@@ -4,6 +4,8 @@ import pathlib
 import subprocess
 import sys
 
+import numpy as np
+
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 
@@ -17,6 +19,29 @@ def test_speed_vs_error_study_quick(tmp_path):
     assert any(r['status'].startswith('refused') for r in rows if r['integrator'] == 'Original')
     assert (tmp_path/'table.md').exists() and (tmp_path/'error_vs_speed_s1_0.003P.png').stat().st_size > 10000
     assert 'D translational (nm^2/ps) +-' in rows[0], 'S1 gives standard errors from groups of bodies'
+    assert all(r['error VACF'] and r['error VACF +-'] for r in rows if r['status'] == 'ok'), 'S1 measures the exact VACF'
+
+
+def test_s1_exact_vacf_is_the_helicoids_ornstein_uhlenbeck_process():
+    """S1's exact VACF: the helicoid has isotropic inertia and a rotation-invariant coupled tensor,
+    so its normalized <V(t).V(0)> is [exp(-A t)]_00 of the 2x2 reduction A = diag(m, I)^-1 eta
+    [[a, c], [c, b]], here from a general (non-symmetric) eigen-decomposition; the coupling matters."""
+    sys.path.insert(0, str(ROOT/'benchmarks'/'speed_vs_error'))
+    import study
+
+    shape, masses = study.HELICOID_SHAPE, study.HELICOID_MASSES
+    assert np.allclose(np.einsum('s,sk->k', masses, shape), 0)
+    inertia = np.einsum('s,si,si->', masses, shape, shape)*np.eye(3)-np.einsum('s,si,sj->ij', masses, shape, shape)
+    assert np.allclose(inertia, inertia[0, 0]*np.eye(3))
+    a, b, c = study.HELICOID_RESISTANCE
+    eta = study.S1_VISCOSITY*60221.4076
+    reduced = np.diag([1/masses.sum(), 1/inertia[0, 0]])@(eta*np.array([[a, c], [c, b]]))
+    w, v = np.linalg.eig(reduced)
+    lags = study.VACF_STRIDE_FS*1e-3*np.array(study.VACF_LAGS)
+    expected = [np.real(v@np.diag(np.exp(-w*t))@np.linalg.inv(v))[0, 0] for t in lags]
+    assert np.allclose(study.helicoid_vacf_truth(), expected, rtol=1e-12)
+    uncoupled = np.exp(-reduced[0, 0]*lags)
+    assert np.max(np.abs(np.array(expected)-uncoupled)) > 0.1
 
 
 def test_speed_vs_error_verdicts_separate_noise_from_error():

@@ -140,6 +140,7 @@ def plot(out, rows):
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
     groups = sorted({(r['scene'], r['viscosity (P)']) for r in rows if 'reference' not in r['scene']})
     for scene, viscosity in groups:
         selected = [r for r in rows if r['scene'] == scene and r['viscosity (P)'] == viscosity and r['status'] == 'ok']
@@ -159,6 +160,7 @@ def plot(out, rows):
                                 fmt='o-', capsize=2, label=integrator)
             ax.set_xscale('log')
             ax.set_yscale('log')
+            ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # labels at 2x, 3x... overlap
             ax.set_xlabel('ns/day')
             ax.set_ylabel('error' if observable in ABSOLUTE else 'relative error')
             ax.set_title(observable, fontsize=9)

@@ -5,8 +5,9 @@ step) and the error of configurational and dynamical observables, and plots erro
 
 Scenes
   S1  free asymmetric bodies with a coupled 6x6 tensor about a point off the centre of mass: the
-      truth is exact (kinetic temperatures, kT (eta Xi)^-1 diffusion, Favro's orientational times,
-      the exact velocity autocorrelation).
+      truth is exact (kinetic temperatures, kT (eta Xi)^-1 diffusion, Favro's orientational times);
+      with them, in a Context of their own, free isotropic helicoids (coupled, rotation-invariant
+      6x6 tensor) whose velocity autocorrelation exp(-M^-1 eta Xi t) kT M^-1 is exact.
   S2  the flagship's 256 rigid TIP3P waters (PME 0.9 nm, LJ switched from 0.8 nm) at 0.01, 0.1 and
       1 poise: the truth is small-step (0.5 fs) ExactFlow reference runs. Every run starts from one
       of a few configurations equilibrated at 0.01 P (the configurational equilibrium does not
@@ -216,7 +217,8 @@ S1_VISCOSITY = 0.003  # poise: mode rates lambda h from 0.05 to 2.7 at 2 fs, ori
 
 
 def s1_truth():
-    """Exact answers for S1: diffusion kT (eta Xi)^-1 at the centre of diffusion, Favro's times."""
+    """Exact answers for S1: diffusion kT (eta Xi)^-1 at the centre of diffusion, Favro's times, the
+    helicoids' velocity autocorrelation."""
     kt = obs.KB*TEMPERATURE
     eta = S1_VISCOSITY*60221.4076
     def skew(r):
@@ -240,7 +242,67 @@ def s1_truth():
     return {'T translational (K)': TEMPERATURE, 'T rotational (K)': TEMPERATURE,
             'D translational (nm^2/ps)': trace(center)/3,
             'orientational time (ps)': np.mean([1/(rotational.sum()-rotational[k]) for k in range(3)]),
+            'VACF': helicoid_vacf_truth(),
             'center': center, 'axes': np.linalg.eigh(d[3:, 3:])[1]}
+
+
+# S1's velocity autocorrelation: the lab-frame velocities of the asymmetric body above turn with it
+# (its friction in the lab frame depends on its orientation), so their autocorrelation has no closed
+# form. Kelvin's isotropic helicoid has one: its 6x6 tensor about the centre of mass couples
+# translation and rotation (Xi_tr = c 1) yet is unchanged by rotation, and with isotropic inertia
+# nothing turns the lab-frame velocities (V, omega) but friction and noise, an Ornstein-Uhlenbeck
+# process: <u(t) u(0)^T> = exp(-M^-1 eta Xi t) kT M^-1 exactly.
+HELICOID_SHAPE = 0.06/math.sqrt(3)*np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]])  # regular tetrahedron
+HELICOID_MASSES = np.full(4, 4.5)  # 18 amu, inertia 0.0432 amu nm^2 about every axis
+HELICOID_RESISTANCE = (1.0, 0.0048, 0.045)  # nm, nm^3, nm^2: rates 4.6 and 25.6 /ps at 0.003 P, coupling c^2/(ab) = 0.42
+VACF_STRIDE_FS = 32.0  # velocity samples (a multiple of every step); the VACF at 1, 2, 4, 8 strides
+VACF_LAGS = [1, 2, 4, 8]
+
+
+def helicoid_tensor():
+    a, b, c = HELICOID_RESISTANCE
+    return np.block([[a*np.eye(3), c*np.eye(3)], [c*np.eye(3), b*np.eye(3)]])
+
+
+def helicoid_vacf_truth():
+    """Normalized <V(t).V(0)> of the helicoids at the VACF lags: tr_tt exp(-K t)/3 with
+    K = M^-1/2 eta Xi M^-1/2 (the translational block of M^1/2 is a multiple of 1)."""
+    inertia = np.einsum('s,sk,sk->', HELICOID_MASSES, HELICOID_SHAPE, HELICOID_SHAPE)*2/3
+    scale = np.repeat([HELICOID_MASSES.sum()**-0.5, inertia**-0.5], 3)
+    rates, modes = np.linalg.eigh(scale[:, None]*S1_VISCOSITY*60221.4076*helicoid_tensor()*scale[None, :])
+    lags = VACF_STRIDE_FS*1e-3*np.array(VACF_LAGS)
+    return np.array([np.trace(((modes*np.exp(-rates*t))@modes.T)[:3, :3])/3 for t in lags])
+
+
+def run_helicoids(name, step_fs, seed, args):
+    """S1's velocity autocorrelation: free helicoids sampled every VACF_STRIDE_FS; the normalized
+    VACF at VACF_LAGS, its mean and standard error over groups of helicoids."""
+    n = args.free_bodies
+    system = mm.System()
+    integrator = rl.RigidLangevinIntegrator(TEMPERATURE*unit.kelvin, S1_VISCOSITY*rl.poise, step_fs*1e-3*unit.picoseconds)
+    integrator.setScheme(SCHEMES[name])
+    integrator.setRandomNumberSeed(seed)
+    positions = []
+    for b in range(n):
+        for m, p in zip(HELICOID_MASSES, HELICOID_SHAPE):
+            system.addParticle(m)
+            positions.append(mm.Vec3(*(p+[3.0*b, 3.0, 0])))
+        integrator.addRigidBody(list(range(4*b, 4*b+4)))
+        integrator.setBodyResistance(b, helicoid_tensor(), mm.Vec3(3.0*b, 3.0, 0))
+    context = mm.Context(system, integrator, mm.Platform.getPlatformByName('CPU'), {'Threads': str(args.threads)})
+    context.setPositions(positions)
+    context.setVelocitiesToTemperature(TEMPERATURE, seed)
+    molecules = obs.Molecules([list(range(4*b, 4*b+4)) for b in range(n)], HELICOID_MASSES)
+    stride = int(round(VACF_STRIDE_FS/step_fs))
+    integrator.step(int(round(2.0/(step_fs*1e-3))))  # 2 ps: 9 velocity relaxation times of the slowest mode
+    velocities = []
+    for s in range(int(round(args.helicoid_ps/(VACF_STRIDE_FS*1e-3)))):
+        integrator.step(stride)
+        state = context.getState(getPositions=True, getVelocities=True)
+        velocities.append(molecules.rigid_motion(state.getPositions(asNumpy=True)._value, state.getVelocities(asNumpy=True)._value)[0])
+    velocities = np.array(velocities)
+    vacf = [obs.velocity_autocorrelation(velocities[:, g], VACF_LAGS) for g in np.array_split(np.arange(n), S1_GROUPS)]
+    return np.mean(vacf, axis=0), np.std(vacf, axis=0, ddof=1)/math.sqrt(len(vacf))
 
 
 def run_free_bodies(task):
@@ -294,6 +356,7 @@ def run_free_bodies(task):
             rotations = np.array(rotations)
             centers.append(c+np.einsum('bij,j->bi', rotations, truth['center']))
             axes.append(np.einsum('bij,jk->bik', rotations, truth['axes']))
+        vacf, vacf_error = run_helicoids(name, step_fs, seed, args)
     except mm.OpenMMException as e:
         return {'status': refusal(e)}
     # The bodies are independent: groups of them give independent estimates, hence standard errors.
@@ -305,6 +368,7 @@ def run_free_bodies(task):
             'T rotational (K)': np.mean(t_rot), 'T rotational (K) +-': block_error(t_rot),
             'D translational (nm^2/ps)': np.mean(diffusion), 'D translational (nm^2/ps) +-': standard_error(diffusion),
             'orientational time (ps)': np.mean(times), 'orientational time (ps) +-': standard_error(times),
+            'VACF': vacf, 'VACF +-': vacf_error,
             'ns/day': samples*every*step_fs*1e-6/(stepping/86400),
             's per body-step': stepping/(samples*every*n)}
 
@@ -399,7 +463,7 @@ def main(argv=None):
     args.replicas = 2 if args.quick else 3
     args.start_equilibration_ps, args.start_spacing_ps = (0.5, 0.5) if args.quick else (40.0, 20.0)
     args.equilibration_ps, args.production_ps, args.reference_ps = (0.2, 1.5, 2.0) if args.quick else (1.0, 15.0, 25.0)
-    args.free_bodies, args.free_body_time = (10, 4) if args.quick else (100, 100)
+    args.free_bodies, args.free_body_time, args.helicoid_ps = (10, 4, 5.0) if args.quick else (100, 100, 200.0)
     args.stability_steps = 200 if args.quick else 100000
     viscosities = [0.01, 0.1, 1.0]
     water_steps = [1.0, 2.0, 4.0]
