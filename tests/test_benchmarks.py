@@ -34,7 +34,7 @@ def test_s1_exact_vacf_is_the_helicoids_ornstein_uhlenbeck_process():
     inertia = np.einsum('s,si,si->', masses, shape, shape)*np.eye(3)-np.einsum('s,si,sj->ij', masses, shape, shape)
     assert np.allclose(inertia, inertia[0, 0]*np.eye(3))
     a, b, c = study.HELICOID_RESISTANCE
-    eta = study.S1_VISCOSITY*60221.4076
+    eta = study.S1_VISCOSITY*60221.4076  # 1 P = 0.1 Pa s = 0.1 * 6.02214076e5 amu/(nm ps)
     reduced = np.diag([1/masses.sum(), 1/inertia[0, 0]])@(eta*np.array([[a, c], [c, b]]))
     w, v = np.linalg.eig(reduced)
     lags = study.VACF_STRIDE_FS*1e-3*np.array(study.VACF_LAGS)

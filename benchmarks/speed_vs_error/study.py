@@ -96,6 +96,11 @@ def water_setup(waters_pdb, viscosity_poise, integrator_name, step_fs, seed, thr
     return context, integrator, molecules, (sigma._value, epsilon._value), np.array([box[i][i].value_in_unit(unit.nanometer) for i in range(3)])
 
 
+def md_viscosity(viscosity_poise):
+    """A viscosity in poise in OpenMM's units, amu/(nm ps), as the integrator converts it."""
+    return (viscosity_poise*rl.poise).value_in_unit(rl.md_viscosity)
+
+
 def translational_friction(pdb, system, atoms, viscosity_poise):
     """eta * tr(Xi_tt)/3 (amu/ps) of one water body: the integrator's default bead model, with the
     radii addRigidBodies gives the body (Lennard-Jones sigma/2, else the element's radius)."""
@@ -105,7 +110,7 @@ def translational_friction(pdb, system, atoms, viscosity_poise):
     positions = [pdb.positions[a] for a in atoms]
     radii = [integrator.getParticleRadius(a) or 0.5*nonbonded.getParticleParameters(a)[1] for a in atoms]
     tensor = rl.hydrodynamics.beads(positions, radii, rl.hydrodynamics.unionVolume(positions, radii)).getMatrix()
-    return viscosity_poise*60221.4076*np.trace(tensor[:3, :3])/3
+    return md_viscosity(viscosity_poise)*np.trace(tensor[:3, :3])/3
 
 
 def block_error(values, blocks=10):
@@ -119,8 +124,12 @@ def block_error(values, blocks=10):
 
 
 def standard_error(values):
+    """Standard error of the mean of independent estimates (scalars or arrays, along the first axis)."""
     values = np.asarray(values, dtype=float)
-    return float(values.std(ddof=1)/math.sqrt(len(values))) if len(values) > 1 else float('nan')
+    if len(values) < 2:
+        return float('nan')
+    error = values.std(axis=0, ddof=1)/math.sqrt(len(values))
+    return float(error) if error.ndim == 0 else error
 
 
 def refusal(error):
@@ -220,7 +229,7 @@ def s1_truth():
     """Exact answers for S1: diffusion kT (eta Xi)^-1 at the centre of diffusion, Favro's times, the
     helicoids' velocity autocorrelation."""
     kt = obs.KB*TEMPERATURE
-    eta = S1_VISCOSITY*60221.4076
+    eta = md_viscosity(S1_VISCOSITY)
     def skew(r):
         return np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])
     def move(mu, r):
@@ -269,30 +278,44 @@ def helicoid_vacf_truth():
     K = M^-1/2 eta Xi M^-1/2 (the translational block of M^1/2 is a multiple of 1)."""
     inertia = np.einsum('s,sk,sk->', HELICOID_MASSES, HELICOID_SHAPE, HELICOID_SHAPE)*2/3
     scale = np.repeat([HELICOID_MASSES.sum()**-0.5, inertia**-0.5], 3)
-    rates, modes = np.linalg.eigh(scale[:, None]*S1_VISCOSITY*60221.4076*helicoid_tensor()*scale[None, :])
+    rates, modes = np.linalg.eigh(scale[:, None]*md_viscosity(S1_VISCOSITY)*helicoid_tensor()*scale[None, :])
     lags = VACF_STRIDE_FS*1e-3*np.array(VACF_LAGS)
     return np.array([np.trace(((modes*np.exp(-rates*t))@modes.T)[:3, :3])/3 for t in lags])
 
 
-def run_helicoids(name, step_fs, seed, args):
-    """S1's velocity autocorrelation: free helicoids sampled every VACF_STRIDE_FS; the normalized
-    VACF at VACF_LAGS, its mean and standard error over groups of helicoids."""
+def free_bodies(name, step_fs, seed, args, shape, masses, tensor, origin):
+    """args.free_bodies force-free copies of a body (sites `shape` about its centre of mass, 3 nm
+    apart) with the resistance `tensor` about `origin` (relative to the centre of mass), at S1's
+    viscosity: the integrator, a CPU Context at temperature and the bodies as Molecules."""
     n = args.free_bodies
     system = mm.System()
     integrator = rl.RigidLangevinIntegrator(TEMPERATURE*unit.kelvin, S1_VISCOSITY*rl.poise, step_fs*1e-3*unit.picoseconds)
     integrator.setScheme(SCHEMES[name])
     integrator.setRandomNumberSeed(seed)
     positions = []
+    sites = len(masses)
     for b in range(n):
-        for m, p in zip(HELICOID_MASSES, HELICOID_SHAPE):
+        # Bodies along the line y = 3 nm. Where a body's moments are equal (the helicoid) its principal
+        # axes, and so which random number drives which axis, follow the last bits of the positions:
+        # the place keeps the recorded runs reproducible (the statistics do not depend on it).
+        place = np.array([3.0*b, 3.0, 0])
+        for m, p in zip(masses, shape):
             system.addParticle(m)
-            positions.append(mm.Vec3(*(p+[3.0*b, 3.0, 0])))
-        integrator.addRigidBody(list(range(4*b, 4*b+4)))
-        integrator.setBodyResistance(b, helicoid_tensor(), mm.Vec3(3.0*b, 3.0, 0))
+            positions.append(mm.Vec3(*(p+place)))
+        integrator.addRigidBody(list(range(sites*b, sites*b+sites)))
+        integrator.setBodyResistance(b, tensor, mm.Vec3(*(origin+place)))
     context = mm.Context(system, integrator, mm.Platform.getPlatformByName('CPU'), {'Threads': str(args.threads)})
     context.setPositions(positions)
     context.setVelocitiesToTemperature(TEMPERATURE, seed)
-    molecules = obs.Molecules([list(range(4*b, 4*b+4)) for b in range(n)], HELICOID_MASSES)
+    return integrator, context, obs.Molecules([list(range(sites*b, sites*b+sites)) for b in range(n)], masses)
+
+
+def run_helicoids(name, step_fs, seed, args):
+    """S1's velocity autocorrelation: free helicoids sampled every VACF_STRIDE_FS; the normalized
+    VACF at VACF_LAGS, its mean and standard error over groups of helicoids."""
+    n = args.free_bodies
+    integrator, context, molecules = free_bodies(name, step_fs, seed, args, HELICOID_SHAPE, HELICOID_MASSES,
+                                                 helicoid_tensor(), np.zeros(3))
     stride = int(round(VACF_STRIDE_FS/step_fs))
     integrator.step(int(round(2.0/(step_fs*1e-3))))  # 2 ps: 9 velocity relaxation times of the slowest mode
     velocities = []
@@ -302,36 +325,21 @@ def run_helicoids(name, step_fs, seed, args):
         velocities.append(molecules.rigid_motion(state.getPositions(asNumpy=True)._value, state.getVelocities(asNumpy=True)._value)[0])
     velocities = np.array(velocities)
     vacf = [obs.velocity_autocorrelation(velocities[:, g], VACF_LAGS) for g in np.array_split(np.arange(n), S1_GROUPS)]
-    return np.mean(vacf, axis=0), np.std(vacf, axis=0, ddof=1)/math.sqrt(len(vacf))
+    return np.mean(vacf, axis=0), standard_error(vacf)
 
 
 def run_free_bodies(task):
     name, step_fs, seed, args = task['integrator'], task['step_fs'], task['seed'], task['args']
     truth = s1_truth()
-    system = mm.System()
-    integrator = rl.RigidLangevinIntegrator(TEMPERATURE*unit.kelvin, S1_VISCOSITY*rl.poise, step_fs*1e-3*unit.picoseconds)
-    integrator.setScheme(SCHEMES[name])
-    integrator.setRandomNumberSeed(seed)
-    com = (BODY_MASSES[:, None]*BODY_SHAPE).sum(0)/BODY_MASSES.sum()
-    positions = []
     n = args.free_bodies
-    for b in range(n):
-        first = system.getNumParticles()
-        for m, p in zip(BODY_MASSES, BODY_SHAPE):
-            system.addParticle(m)
-            positions.append(mm.Vec3(*(p-com+[3.0*b, 0, 0])))
-        integrator.addRigidBody(list(range(first, first+4)))
-        integrator.setBodyResistance(b, coupled_tensor(), mm.Vec3(*(BODY_OFFSET+[3.0*b, 0, 0])))
-    context = mm.Context(system, integrator, mm.Platform.getPlatformByName('CPU'), {'Threads': str(args.threads)})
-    context.setPositions(positions)
-    context.setVelocitiesToTemperature(TEMPERATURE, seed)
-    molecules = obs.Molecules([list(range(4*b, 4*b+4)) for b in range(n)], BODY_MASSES)
+    com = (BODY_MASSES[:, None]*BODY_SHAPE).sum(0)/BODY_MASSES.sum()
+    reference = BODY_SHAPE-com
+    integrator, context, molecules = free_bodies(name, step_fs, seed, args, reference, BODY_MASSES, coupled_tensor(), BODY_OFFSET)
     tau = truth['orientational time (ps)']
     dt = tau/20
     every = max(1, int(round(dt/(step_fs*1e-3))))
     dt = every*step_fs*1e-3
     samples = int(round(args.free_body_time*tau/dt))
-    reference = BODY_SHAPE-com
     try:
         integrator.step(every*20)
         centers, axes, t_trans, t_rot = [], [], [], []
@@ -417,8 +425,7 @@ def combine(results):
         values = [r[key] for r in results]
         combined[key] = np.mean(values, axis=0) if not np.isscalar(value) else float(np.mean(values))
         if key not in ('ns/day', 's per body-step') and len(values) > 1:
-            spread = np.std(values, axis=0, ddof=1)/math.sqrt(len(values))
-            combined[key+' +-'] = float(spread) if np.isscalar(value) else spread
+            combined[key+' +-'] = standard_error(values)
     return combined
 
 
