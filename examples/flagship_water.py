@@ -22,7 +22,6 @@ and .png, timings.csv.
 """
 import argparse
 import csv
-import math
 import pathlib
 import sys
 import time
@@ -33,6 +32,7 @@ import openmm.app as app
 import openmm.unit as unit
 
 import rigidlangevin as rl
+from rigidlangevin.statistics import block_error
 
 HERE = pathlib.Path(__file__).resolve().parent
 BOX = 1.97166  # nm
@@ -95,13 +95,6 @@ def run(context, integrator, steps, every, label, sample):
     return steps*STEP*1e-3/((time.time()-begin)/86400)
 
 
-def block_standard_error(values, blocks=20):
-    values = np.asarray(values)
-    n = len(values)//blocks
-    means = values[:n*blocks].reshape(blocks, n).mean(axis=1)
-    return means.std(ddof=1)/math.sqrt(blocks)
-
-
 def temperature_control(pdb, args):
     rows = []
     for viscosity in (1.0, 0.1, 0.01):
@@ -116,7 +109,7 @@ def temperature_control(pdb, args):
         speed = run(context, integrator, int(args.control_ps/STEP), 10, f'{viscosity} P', sample)
         source_mean, source_rms = SOURCE_TABLE[viscosity]
         rows.append({'viscosity (P)': viscosity, 'source <T> (K)': source_mean, 'source T rms (K)': source_rms,
-                     '<T> (K)': np.mean(total), 'standard error (K)': block_standard_error(total), 'T rms (K)': np.std(total),
+                     '<T> (K)': np.mean(total), 'standard error (K)': block_error(total, 20), 'T rms (K)': np.std(total),
                      '<T translational> (K)': np.mean(translational), '<T rotational> (K)': np.mean(rotational),
                      'ns/day': speed})
     return rows

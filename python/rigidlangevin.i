@@ -138,8 +138,8 @@ public:
     int addRigidBody(const std::vector<int>& particles);
     int getNumRigidBodies() const;
     const std::vector<int>& getRigidBodyParticles(int index) const;
-    void setBodyResistance(int index, const std::vector<double>& tensor, const Vec3& origin);
-    void setBodyHydrodynamics(int index, const ResistanceTensor& model);
+    void setBodyResistance(int index, const std::vector<double>& tensor, const Vec3& origin, const std::vector<Vec3>& referencePositions);
+    void setBodyHydrodynamics(int index, const ResistanceTensor& model, const std::vector<Vec3>& referencePositions);
     void clearBodyResistance(int index);
     void setParticleRadius(int particle, double radius);
     double getParticleRadius(int particle) const;
@@ -151,16 +151,20 @@ public:
     void step(int steps);
 
     %extend {
-        /* The explicit tensor of a body as (6x6 numpy array, origin Vec3 in nm), or None. */
+        /* The explicit tensor of a body as (36 values, (x, y, z) origin, [(x, y, z)] reference positions), or None. */
         PyObject* _getBodyResistance(int index) const {
             std::vector<double> tensor;
             Vec3 origin;
-            if (!self->getBodyResistance(index, tensor, origin))
+            std::vector<Vec3> reference;
+            if (!self->getBodyResistance(index, tensor, origin, reference))
                 Py_RETURN_NONE;
             PyObject* values = PyList_New(36);
             for (int i = 0; i < 36; i++)
                 PyList_SET_ITEM(values, i, PyFloat_FromDouble(tensor[i]));
-            return Py_BuildValue("(N(ddd))", values, origin[0], origin[1], origin[2]);
+            PyObject* positions = PyList_New(reference.size());
+            for (int i = 0; i < (int) reference.size(); i++)
+                PyList_SET_ITEM(positions, i, Py_BuildValue("(ddd)", reference[i][0], reference[i][1], reference[i][2]));
+            return Py_BuildValue("(N(ddd)N)", values, origin[0], origin[1], origin[2], positions);
         }
         RigidLangevinPlugin::RigidLangevinIntegrator* _clone() const {
             return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(OpenMM::XmlSerializer::clone<OpenMM::Integrator>(*self));
@@ -180,7 +184,8 @@ public:
         }
         %pythoncode %{
             def getBodyResistance(self, index):
-                """The explicit resistance tensor of a body, as (6x6 numpy array, origin Vec3 in nm), or None."""
+                """The explicit resistance tensor of a body, as (6x6 numpy array, origin Vec3 in nm, the reference
+                positions of the body's particles it belongs to as an (N, 3) array in nm), or None."""
                 return _units.resistance_result(self._getBodyResistance(index))
 
             @staticmethod

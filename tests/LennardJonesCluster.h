@@ -107,11 +107,13 @@ struct LennardJonesCluster {
             sphere.block<3, 3>(3, 3) = 8*M_PI*a*a*a*Eigen::Matrix3d::Identity();
             Vec3 center;
             double mass = 0;
+            std::vector<Vec3> reference;
             for (int p : bodies[sphereBody]) {
                 center += positions[p]*system.getParticleMass(p);
                 mass += system.getParticleMass(p);
+                reference.push_back(positions[p]);
             }
-            integrator.setBodyResistance(sphereBody, flatten(sphere), center/mass);
+            integrator.setBodyResistance(sphereBody, flatten(sphere), center/mass, reference);
         }
     }
 };

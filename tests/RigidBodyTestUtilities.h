@@ -16,6 +16,7 @@
 #include "openmm/System.h"
 #include <Eigen/Dense>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <ostream>
 #include <string>
@@ -261,12 +262,16 @@ inline void getParticles(OpenMM::Context& context, std::vector<Vec3>& pos, std::
 
 /**
  * The platforms to run a test on: every one this machine has on which the plugin's kernels are
- * registered (a platform whose plugin library could not be loaded is left out).
+ * registered (TestMain.cpp has already stopped the tests if a platform OpenMM loaded lacks them),
+ * or those of them that RIGIDLANGEVIN_TEST_PLATFORMS names.
  */
 inline std::vector<std::string> platformNames() {
     std::vector<std::string> names;
     for (int i = 0; i < OpenMM::Platform::getNumPlatforms(); i++) {
         OpenMM::Platform& platform = OpenMM::Platform::getPlatform(i);
+        const char* only = std::getenv("RIGIDLANGEVIN_TEST_PLATFORMS");
+        if (only != NULL && (","+std::string(only)+",").find(","+platform.getName()+",") == std::string::npos)
+            continue;
         if (platform.supportsKernels({RigidLangevinPlugin::IntegrateRigidLangevinStepKernel::Name()}))
             names.push_back(platform.getName());
     }
@@ -338,6 +343,15 @@ inline std::vector<PlatformConfig> nonReferenceConfigs() {
     return configs;
 }
 
+/** GPU platforms in single and mixed precision: the statistical tests' representative cases run there too. */
+inline std::vector<PlatformConfig> lowerPrecisionConfigs() {
+    std::vector<PlatformConfig> configs;
+    for (const PlatformConfig& c : platformConfigs({"single", "mixed"}))
+        if (c.isGPU())
+            configs.push_back(c);
+    return configs;
+}
+
 /**
  * Whether the statistical tests run all their cases on a platform, or one representative case per
  * test. Reference defines the physics and the GPU platforms reimplement it (their own kernels), so
@@ -346,7 +360,7 @@ inline std::vector<PlatformConfig> nonReferenceConfigs() {
  * its per-step overhead (OpenMM's CPU platform: ~0.2 ms a step) would make every case slow.
  */
 inline bool runsEveryStatisticalCase(const PlatformConfig& config) {
-    return config.platform != "CPU";
+    return config.platform != "CPU" && config.precision == "double";
 }
 
 /** A gtest parameter name for a PlatformConfig. */

@@ -75,19 +75,22 @@ TEST(BadInput, BodyDefinitions) {
     expectError([&] {integrator.addRigidBody({1, 2, 1});}, {"rigid body 0", "particle 1", "twice"});
     integrator.addRigidBody({0, 1});
     expectError([&] {integrator.addRigidBody({2, 1});}, {"particle 1", "rigid body 0"});
+    std::vector<Vec3> pair = {Vec3(0, 0, 0), Vec3(0.1, 0, 0)};
     expectError([&] {integrator.getRigidBodyParticles(1);}, {"no rigid body 1"});
-    expectError([&] {integrator.setBodyResistance(-1, identityTensor(), Vec3());}, {"no rigid body -1"});
-    expectError([&] {integrator.setBodyResistance(0, std::vector<double>(35, 1.0), Vec3());}, {"rigid body 0", "36"});
+    expectError([&] {integrator.setBodyResistance(-1, identityTensor(), Vec3(), pair);}, {"no rigid body -1"});
+    expectError([&] {integrator.setBodyResistance(0, std::vector<double>(35, 1.0), Vec3(), pair);}, {"rigid body 0", "36"});
     std::vector<double> t = identityTensor();
     t[3] = NaN;
-    expectError([&] {integrator.setBodyResistance(0, t, Vec3());}, {"rigid body 0", "NaN"});
+    expectError([&] {integrator.setBodyResistance(0, t, Vec3(), pair);}, {"rigid body 0", "NaN"});
     t = identityTensor();
     t[1] = 0.5;
-    expectError([&] {integrator.setBodyResistance(0, t, Vec3());}, {"rigid body 0", "not symmetric"});
+    expectError([&] {integrator.setBodyResistance(0, t, Vec3(), pair);}, {"rigid body 0", "not symmetric"});
     t = identityTensor();
     t[35] = -1;
-    expectError([&] {integrator.setBodyResistance(0, t, Vec3());}, {"rigid body 0", "positive definite"});
-    expectError([&] {integrator.setBodyResistance(0, identityTensor(), Vec3(NaN, 0, 0));}, {"rigid body 0", "origin"});
+    expectError([&] {integrator.setBodyResistance(0, t, Vec3(), pair);}, {"rigid body 0", "positive definite"});
+    expectError([&] {integrator.setBodyResistance(0, identityTensor(), Vec3(NaN, 0, 0), pair);}, {"rigid body 0", "origin"});
+    expectError([&] {integrator.setBodyResistance(0, identityTensor(), Vec3(), {Vec3()});}, {"rigid body 0", "2 particles", "got 1 positions"});
+    expectError([&] {integrator.setBodyResistance(0, identityTensor(), Vec3(), {Vec3(), Vec3(NaN, 0, 0)});}, {"rigid body 0", "particle 1", "not finite"});
 }
 
 // Checked where a context is made or first steps: on every platform.

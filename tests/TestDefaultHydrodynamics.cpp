@@ -116,11 +116,14 @@ TEST(DefaultHydrodynamics, SetBodyHydrodynamicsTakesAnyModel) {
     RigidLangevinIntegrator integrator(300, 100, 0.002);
     integrator.addRigidBody({0, 1});
     ResistanceTensor ellipsoid = ResistanceTensor::ellipsoid(0.3, 0.2, 0.1, Vec3(0.1, 0, 0));
-    integrator.setBodyHydrodynamics(0, ellipsoid);
+    std::vector<Vec3> reference = {Vec3(-0.2, 0, 0), Vec3(0.4, 0, 0)};
+    integrator.setBodyHydrodynamics(0, ellipsoid, reference);
     std::vector<double> tensor;
     Vec3 origin;
-    ASSERT_TRUE(integrator.getBodyResistance(0, tensor, origin));
+    std::vector<Vec3> r;
+    ASSERT_TRUE(integrator.getBodyResistance(0, tensor, origin, r));
     EXPECT_EQ(ellipsoid.getMatrix(), tensor);
     EXPECT_EQ(ellipsoid.getOrigin(), origin);
-    EXPECT_THROW(integrator.setBodyHydrodynamics(0, ResistanceTensor()), OpenMMException);
+    EXPECT_EQ(reference, r);
+    EXPECT_THROW(integrator.setBodyHydrodynamics(0, ResistanceTensor(), reference), OpenMMException);
 }

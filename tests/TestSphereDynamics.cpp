@@ -189,7 +189,7 @@ void checkOrientation(const PlatformConfig& platform, double gammaH, double epsi
             positions.push_back(toVec3(shape.reference[i]+Eigen::Vector3d(b, 0, 0)));
         }
         integrator.addRigidBody(particles);
-        integrator.setBodyResistance(b, flatten(sphere), Vec3(b, 0, 0));
+        integrator.setBodyResistance(b, flatten(sphere), Vec3(b, 0, 0), std::vector<Vec3>(positions.end()-4, positions.end()));
     }
     Context context(system, integrator, platform.get(), platform.properties());
     context.setPositions(positions);

@@ -14,14 +14,23 @@ PlatformChoice.__doc__ = 'An OpenMM platform and the properties to create a Cont
 PlatformChoice.context = lambda self, system, integrator: mm.Context(system, integrator, self.platform, self.properties)
 
 
+IMPLEMENTED = ('Reference', 'CPU', 'OpenCL', 'CUDA')
+
+
 def available_platforms():
-    """Every platform this machine has on which the plugin's kernels are registered."""
-    names = []
-    for i in range(mm.Platform.getNumPlatforms()):
-        platform = mm.Platform.getPlatform(i)
-        if platform.supportsKernels([KERNEL]):
-            names.append(platform.getName())
-    return names
+    """Every platform this machine has on which the plugin's kernels are registered. A platform that
+    OpenMM loaded and this plugin implements must have them (its kernel library failing to load is an
+    error, not a platform fewer to test); CPU and OpenCL must be there (setup installs PoCL); CUDA
+    may be missing only where NVIDIA's driver (libcuda.so) is."""
+    names = [mm.Platform.getPlatform(i).getName() for i in range(mm.Platform.getNumPlatforms())]
+    missing = [n for n in names if n in IMPLEMENTED and not mm.Platform.getPlatformByName(n).supportsKernels([KERNEL])]
+    missing += [f'{n} (OpenMM could not load its platform; setup installs PoCL for OpenCL)' for n in ('CPU', 'OpenCL') if n not in names]
+    cuda_failures = [f for f in mm.Platform.getPluginLoadFailures() if f.split(':')[0].endswith('/libOpenMMCUDA.so') and 'libcuda.so' not in f]
+    if 'CUDA' not in names and cuda_failures:
+        missing.append('CUDA (it failed to load for another reason than a missing driver)')
+    if missing:
+        raise pytest.UsageError(f"the plugin's kernels are missing on {missing}; plugin load failures: {mm.Platform.getPluginLoadFailures()}")
+    return [n for n in names if n in IMPLEMENTED]
 
 
 @pytest.fixture(params=available_platforms())

@@ -81,7 +81,7 @@ def test_integrator_uses_models_and_shares_types():
         integrator.addRigidBody([first, first+1, first+2])
         for p, r in zip(range(first, first+3), (0.1575, 0.12, 0.12)):
             integrator.setParticleRadius(p, r)
-    integrator.setBodyHydrodynamics(49, hydro.ellipsoid(0.2, 0.15, 0.1, center=(49, 0, 0)))
+    integrator.setBodyHydrodynamics(49, hydro.ellipsoid(0.2, 0.15, 0.1, center=(49, 0, 0)), positions[-3:])
     context = mm.Context(system, integrator, mm.Platform.getPlatformByName('Reference'))
     context.setPositions(positions)
     # 49 identical waters with the default bead model share a type; the ellipsoid one has its own.

@@ -61,13 +61,15 @@ def test_bodies_and_tensors_from_numpy():
     assert i.addRigidBody(np.arange(3)) == 0
     assert i.getRigidBodyParticles(0) == (0, 1, 2)
     tensor = np.diag([1., 2, 3, 4, 5, 6])
-    i.setBodyResistance(0, tensor, mm.Vec3(1, 2, 3)*unit.angstrom)
-    matrix, origin = i.getBodyResistance(0)
+    reference = np.array([[0, 0, 0], [0.9572, 0, 0], [-0.24, 0.927, 0]])*unit.angstrom
+    i.setBodyResistance(0, tensor, mm.Vec3(1, 2, 3)*unit.angstrom, reference)
+    matrix, origin, positions = i.getBodyResistance(0)
     assert np.array_equal(matrix, tensor)
     assert origin.value_in_unit(unit.nanometer) == pytest.approx(mm.Vec3(0.1, 0.2, 0.3))
+    assert positions.value_in_unit(unit.nanometer) == pytest.approx(reference.value_in_unit(unit.nanometer))
     assert i.getNumRigidBodies() == 1
     with pytest.raises(ValueError):
-        i.setBodyResistance(0, np.ones(5), (0, 0, 0))
+        i.setBodyResistance(0, np.ones(5), (0, 0, 0), reference)
 
 
 def test_errors_are_openmm_exceptions():
@@ -78,7 +80,7 @@ def test_errors_are_openmm_exceptions():
     with pytest.raises(mm.OpenMMException, match='not symmetric'):
         bad = np.eye(6)
         bad[0, 1] = 1
-        i.setBodyResistance(0, bad, (0, 0, 0))
+        i.setBodyResistance(0, bad, (0, 0, 0), [(0, 0, 0), (0.1, 0, 0)])
     with pytest.raises(mm.OpenMMException, match='temperature'):
         rl.RigidLangevinIntegrator(-1, 1, 0.002)
 
@@ -90,8 +92,16 @@ def test_context_state_and_temperatures(platform):
     context.setVelocitiesToTemperature(300*unit.kelvin, 1)
     integrator.step(10)
     assert integrator.getNumDegreesOfFreedom() == 18
-    for t in (integrator.computeSystemTemperature(), integrator.computeTranslationalTemperature(), integrator.computeRotationalTemperature()):
-        assert unit.is_quantity(t) and t.unit == unit.kelvin and t._value > 0
+    temperatures = (integrator.computeSystemTemperature(), integrator.computeTranslationalTemperature(), integrator.computeRotationalTemperature())
+    for t in temperatures:
+        assert unit.is_quantity(t) and t.unit == unit.kelvin
+    # Exact identities: the temperature is the State's kinetic energy over 18 degrees of freedom
+    # (no CMMotionRemover), and the degree-of-freedom-weighted mean of its 9 + 9 parts.
+    kinetic = context.getState(getEnergy=True).getKineticEnergy()
+    boltzmann = unit.MOLAR_GAS_CONSTANT_R.value_in_unit(unit.kilojoule_per_mole/unit.kelvin)
+    total, translational, rotational = (t.value_in_unit(unit.kelvin) for t in temperatures)
+    assert total == pytest.approx(2*kinetic.value_in_unit(unit.kilojoule_per_mole)/(18*boltzmann), rel=1e-9)
+    assert total == pytest.approx((translational+rotational)/2, rel=1e-12)
     assert rl.RigidLangevinIntegrator.isinstance(context.getIntegrator())
     assert context.getIntegrator().getViscosity() == integrator.getViscosity()
 
@@ -100,7 +110,7 @@ def test_xml_serializer_copy_and_pickle():
     integrator = rl.RigidLangevinIntegrator(300, 536.0, 0.002)
     integrator.setScheme(rl.RigidLangevinIntegrator.BAOAB)
     integrator.addRigidBody([0, 1, 2])
-    integrator.setBodyResistance(0, np.diag([1., 1, 1, 2, 2, 2]), (0.1, 0, 0))
+    integrator.setBodyResistance(0, np.diag([1., 1, 1, 2, 2, 2]), (0.1, 0, 0), [(0, 0, 0), (0.1, 0, 0), (0, 0.1, 0)])
     integrator.setParticleRadius(1, 0.12)
     integrator.setRandomNumberSeed(9)
     xml = mm.XmlSerializer.serialize(integrator)

@@ -43,6 +43,7 @@ import openmm.unit as unit
 
 import rigidlangevin as rl
 from rigidlangevin.ensemble import broadcast, run_ensemble
+from rigidlangevin.statistics import block_error, standard_error
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import observables as obs  # noqa: E402
@@ -111,25 +112,6 @@ def translational_friction(pdb, system, atoms, viscosity_poise):
     radii = [integrator.getParticleRadius(a) or 0.5*nonbonded.getParticleParameters(a)[1] for a in atoms]
     tensor = rl.hydrodynamics.beads(positions, radii, rl.hydrodynamics.unionVolume(positions, radii)).getMatrix()
     return md_viscosity(viscosity_poise)*np.trace(tensor[:3, :3])/3
-
-
-def block_error(values, blocks=10):
-    """Standard error of the mean of a correlated series, from the spread of block means."""
-    values = np.asarray(values)
-    n = len(values)//blocks
-    if n == 0:
-        return float('nan')
-    means = values[:n*blocks].reshape(blocks, n).mean(axis=1)
-    return float(means.std(ddof=1)/math.sqrt(blocks))
-
-
-def standard_error(values):
-    """Standard error of the mean of independent estimates (scalars or arrays, along the first axis)."""
-    values = np.asarray(values, dtype=float)
-    if len(values) < 2:
-        return float('nan')
-    error = values.std(axis=0, ddof=1)/math.sqrt(len(values))
-    return float(error) if error.ndim == 0 else error
 
 
 def refusal(error):
@@ -303,7 +285,7 @@ def free_bodies(name, step_fs, seed, args, shape, masses, tensor, origin):
             system.addParticle(m)
             positions.append(mm.Vec3(*(p+place)))
         integrator.addRigidBody(list(range(sites*b, sites*b+sites)))
-        integrator.setBodyResistance(b, tensor, mm.Vec3(*(origin+place)))
+        integrator.setBodyResistance(b, tensor, mm.Vec3(*(origin+place)), positions[-sites:])
     context = mm.Context(system, integrator, mm.Platform.getPlatformByName('CPU'), {'Threads': str(args.threads)})
     context.setPositions(positions)
     context.setVelocitiesToTemperature(TEMPERATURE, seed)
@@ -470,7 +452,7 @@ def main(argv=None):
     args.replicas = 2 if args.quick else 3
     args.start_equilibration_ps, args.start_spacing_ps = (0.5, 0.5) if args.quick else (40.0, 20.0)
     args.equilibration_ps, args.production_ps, args.reference_ps = (0.2, 1.5, 2.0) if args.quick else (1.0, 15.0, 25.0)
-    args.free_bodies, args.free_body_time, args.helicoid_ps = (10, 4, 5.0) if args.quick else (100, 100, 200.0)
+    args.free_bodies, args.free_body_time, args.helicoid_ps = (10, 4, 5.0) if args.quick else (200, 100, 200.0)
     args.stability_steps = 200 if args.quick else 100000
     viscosities = [0.01, 0.1, 1.0]
     water_steps = [1.0, 2.0, 4.0]

@@ -125,30 +125,38 @@ public:
     /**
      * Set an explicit resistance tensor for a body, replacing the default hydrodynamic model.
      *
-     * @param index   the index of the body
-     * @param tensor  36 values, row-major: the 6x6 resistance tensor per unit viscosity, ordered so
-     *                that (force, torque) = -viscosity*tensor*(velocity, angular velocity), with
-     *                velocity that of the point origin and torque about it. It must be symmetric and
-     *                positive definite. It is expressed in the lab frame of the body's particles as
-     *                they are in the positions first set on the Context.
-     * @param origin  the reference point of the tensor, in the lab frame of those positions (nm)
+     * The tensor belongs to the body's shape, not to a frame: it is given together with the
+     * positions of the body's particles it was computed for, and the integrator carries it along
+     * with the body wherever a Context places it (any initial positions, a later frame, a State).
+     * Those positions must match the body's shape in the Context (within 1e-3 nm, after a rigid
+     * motion); otherwise creating the Context fails naming the body and particle.
+     *
+     * @param index               the index of the body
+     * @param tensor              36 values, row-major: the 6x6 resistance tensor per unit viscosity,
+     *                            ordered so that (force, torque) = -viscosity*tensor*(velocity,
+     *                            angular velocity), with velocity that of the point origin and torque
+     *                            about it. It must be symmetric and positive definite.
+     * @param origin              the reference point of the tensor (nm), in the frame of referencePositions
+     * @param referencePositions  the positions of the body's particles (in the order given to
+     *                            addRigidBody()) in the frame the tensor and origin are expressed in (nm)
      */
-    void setBodyResistance(int index, const std::vector<double>& tensor, const OpenMM::Vec3& origin);
+    void setBodyResistance(int index, const std::vector<double>& tensor, const OpenMM::Vec3& origin, const std::vector<OpenMM::Vec3>& referencePositions);
     /**
      * Get the explicit resistance tensor of a body.
      *
-     * @param index        the index of the body
-     * @param[out] tensor  the 36 values set by setBodyResistance(), or empty if none was set
-     * @param[out] origin  its reference point
+     * @param index                    the index of the body
+     * @param[out] tensor              the 36 values set by setBodyResistance(), or empty if none was set
+     * @param[out] origin              its reference point
+     * @param[out] referencePositions  the positions of the body's particles the tensor belongs to
      * @return true if the body has an explicit tensor
      */
-    bool getBodyResistance(int index, std::vector<double>& tensor, OpenMM::Vec3& origin) const;
+    bool getBodyResistance(int index, std::vector<double>& tensor, OpenMM::Vec3& origin, std::vector<OpenMM::Vec3>& referencePositions) const;
     /**
      * Give a body the friction of a hydrodynamic model (ResistanceTensor::ellipsoid(), beads(),
-     * shellExtrapolated(), ...), in the lab frame of the positions first set on the Context. The
-     * same as setBodyResistance() with the model's matrix and origin.
+     * shellExtrapolated(), ...) computed for the body's particles at referencePositions. The same
+     * as setBodyResistance() with the model's matrix and origin.
      */
-    void setBodyHydrodynamics(int index, const ResistanceTensor& model);
+    void setBodyHydrodynamics(int index, const ResistanceTensor& model, const std::vector<OpenMM::Vec3>& referencePositions);
     /** Remove the explicit resistance tensor of a body, so that it uses the default model again. */
     void clearBodyResistance(int index);
     /**
@@ -205,9 +213,12 @@ protected:
     double computeKineticEnergy();
     bool kineticEnergyRequiresForce() const;
     std::vector<OpenMM::Vec3> getVelocitiesForTemperature(const OpenMM::System& system, double temperature, int randomSeed) const;
-    double getVelocityTimeOffset() const {
-        return getStepSize()/2;
-    }
+    /**
+     * The time by which the stored velocities lag the positions: half a step for velocity Verlet
+     * (no friction) and the Original scheme; none with friction under ExactFlow and BAOAB, whose
+     * stored velocities are the ones with the exact thermal distribution.
+     */
+    double getVelocityTimeOffset() const;
     void createCheckpoint(std::ostream& stream) const;
     void loadCheckpoint(std::istream& stream);
     void serializeParameters(OpenMM::SerializationNode& node) const;
@@ -216,6 +227,7 @@ private:
     struct BodyResistance {
         std::vector<double> tensor;
         OpenMM::Vec3 origin;
+        std::vector<OpenMM::Vec3> referencePositions;
     };
     void checkNotBound(const char* method) const;
     void checkBodyIndex(int index, const char* method) const;

@@ -51,8 +51,11 @@ public:
     virtual const RigidBodyModel& getModel(OpenMM::ContextImpl& context) = 0;
     /** Get the state of every body (user bodies first, then free particles). */
     virtual void getBodyStates(OpenMM::ContextImpl& context, std::vector<BodyState>& states) = 0;
-    /** Set the state of every body, and the particles' positions and velocities with it. */
-    virtual void setBodyStates(OpenMM::ContextImpl& context, const std::vector<BodyState>& states) = 0;
+    /**
+     * Install the body types of a State (RigidBodyModel::writeTypes()) and then the body states,
+     * which are expressed in those types' frames; the particles are placed from them.
+     */
+    virtual void setBodyTypesAndStates(OpenMM::ContextImpl& context, const OpenMM::SerializationNode& types, const std::vector<BodyState>& states) = 0;
     /** Write everything needed for a bit-identical continuation. */
     virtual void createCheckpoint(OpenMM::ContextImpl& context, std::ostream& stream) = 0;
     /** Read a checkpoint written by createCheckpoint(). */

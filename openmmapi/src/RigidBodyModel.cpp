@@ -1,4 +1,5 @@
 #include "internal/RigidBodyModel.h"
+#include "internal/ExactBodyShapes.h"
 #include "internal/ResistanceMath.h"
 #include "RigidLangevinIntegrator.h"
 #include "ResistanceTensor.h"
@@ -9,6 +10,8 @@
 #include "openmm/MonteCarloMembraneBarostat.h"
 #include "openmm/NonbondedForce.h"
 #include "openmm/OpenMMException.h"
+#include "openmm/VirtualSite.h"
+#include "openmm/serialization/SerializationNode.h"
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <Eigen/SVD>
@@ -53,6 +56,15 @@ void fromMatrix3(const Eigen::Matrix3d& m, double q[3][3]) {
             q[i][j] = m(i, j);
 }
 
+/** The largest distance between two of the points (once per body type: quadratic in its size). */
+double shapeDiameter(const vector<Vec3>& coords) {
+    double squared = 0;
+    for (int i = 0; i < (int) coords.size(); i++)
+        for (int j = i+1; j < (int) coords.size(); j++)
+            squared = std::max(squared, (coords[i]-coords[j]).dot(coords[i]-coords[j]));
+    return std::sqrt(squared);
+}
+
 /** Relative size below which a principal moment counts as zero (a linear or point body). */
 const double ZeroMomentTolerance = 1e-10;
 
@@ -95,6 +107,26 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidLangevinIntegrat
         bodyParticles.push_back(particles);
     }
 
+    // A virtual site in a body rides on it: OpenMM places it from its parents and hands its force
+    // to them, so the parents must move with the site, in the same body.
+    particleIsVirtualSite.assign(numParticles, 0);
+    for (int p = 0; p < numParticles; p++) {
+        if (!system.isVirtualSite(p))
+            continue;
+        particleIsVirtualSite[p] = 1;
+        int b = particleBody[p];
+        if (b == -1)
+            continue;
+        const VirtualSite& site = system.getVirtualSite(p);
+        for (int i = 0; i < site.getNumParticles(); i++)
+            if (particleBody[site.getParticle(i)] != b)
+                throw OpenMMException("RigidLangevinIntegrator: particle "+std::to_string(p)+" in rigid body "+std::to_string(b)+" is a virtual site whose parent particle "+
+                        std::to_string(site.getParticle(i))+" is "+(particleBody[site.getParticle(i)] == -1 ? string("in no rigid body") :
+                        "in rigid body "+std::to_string(particleBody[site.getParticle(i)]))+". A body can carry a virtual site only together with all its parents: "
+                        "put them in the same body, or leave the site out of every body");
+    }
+    exactShapes.reset(new ExactBodyShapes(system, bodyParticles));
+
     // Free particles with mass move as single-particle bodies; massless ones stay where they are.
     for (int p = 0; p < numParticles; p++)
         if (particleBody[p] == -1 && particleMass[p] != 0) {
@@ -130,8 +162,9 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidLangevinIntegrat
     // Explicit resistance tensors of user bodies.
     explicitTensor.resize(numUserBodies);
     explicitOrigin.resize(numUserBodies);
+    explicitReference.resize(numUserBodies);
     for (int b = 0; b < numUserBodies; b++)
-        integrator.getBodyResistance(b, explicitTensor[b], explicitOrigin[b]);
+        integrator.getBodyResistance(b, explicitTensor[b], explicitOrigin[b], explicitReference[b]);
 
     // Hydrodynamic radii: set explicitly, else sigma/2 of a NonbondedForce with nonzero epsilon.
     // A particle with mass needs one unless its body's friction is given explicitly.
@@ -167,6 +200,9 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidLangevinIntegrat
     }
 }
 
+RigidBodyModel::~RigidBodyModel() {
+}
+
 vector<Vec3> RigidBodyModel::unwrappedOffsets(int body, const vector<Vec3>& positions, const Vec3* box, Vec3& centre) const {
     // Every particle is taken at its periodic image nearest the body's first particle, so that a
     // body split across the box by wrapping comes back whole.
@@ -190,18 +226,6 @@ vector<Vec3> RigidBodyModel::unwrappedOffsets(int body, const vector<Vec3>& posi
         }
         rel[i] = d;
     }
-    if (box != NULL) {
-        // Particles each within half a box of the first can still span more than half a box
-        // together, and then which images belong together is ambiguous.
-        for (int i = 0; i < (int) particles.size(); i++)
-            for (int j = i+1; j < (int) particles.size(); j++) {
-                double dist = std::sqrt((rel[i]-rel[j]).dot(rel[i]-rel[j]));
-                if (dist >= halfWidth*(1-1e-12))
-                    throw OpenMMException("RigidLangevinIntegrator: "+bodyName(body, numUserBodies, particles)+" is wider than half the periodic box: particles "+
-                            std::to_string(particles[i])+" and "+std::to_string(particles[j])+" are "+str(dist)+" nm apart but half the box is "+str(halfWidth)+
-                            " nm. Use a larger box");
-            }
-    }
     double mass = 0;
     Vec3 com;
     for (int i = 0; i < (int) particles.size(); i++) {
@@ -215,25 +239,38 @@ vector<Vec3> RigidBodyModel::unwrappedOffsets(int body, const vector<Vec3>& posi
     return rel;
 }
 
-bool RigidBodyModel::matchType(int type, int body, const vector<Vec3>& offsets, double rotation[3][3], double& deviation, int& worst) const {
-    // Kabsch: the rotation A (body frame to lab) minimizing sum |A b_i - d_i|^2, then Q = A^T.
-    const BodyType& t = types[type];
+namespace {
+
+/**
+ * Kabsch: the rotation A minimizing sum |A from_i - to_i|^2 over two centred point sets. Returns the
+ * largest remaining distance |A from_i - to_i|, and in worst the point where it is.
+ */
+double fitRotation(const vector<Vec3>& from, const vector<Vec3>& to, Eigen::Matrix3d& a, int& worst) {
     Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
-    for (int i = 0; i < (int) offsets.size(); i++)
-        h += toEigen(t.coords[i])*toEigen(offsets[i]).transpose();
+    for (int i = 0; i < (int) from.size(); i++)
+        h += toEigen(from[i])*toEigen(to[i]).transpose();
     Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
     Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
     d(2, 2) = ((svd.matrixV()*svd.matrixU().transpose()).determinant() < 0 ? -1 : 1);
-    Eigen::Matrix3d a = svd.matrixV()*d*svd.matrixU().transpose();
-    deviation = 0;
+    a = svd.matrixV()*d*svd.matrixU().transpose();
+    double deviation = 0;
     worst = 0;
-    for (int i = 0; i < (int) offsets.size(); i++) {
-        double dev = (a*toEigen(t.coords[i])-toEigen(offsets[i])).norm();
+    for (int i = 0; i < (int) from.size(); i++) {
+        double dev = (a*toEigen(from[i])-toEigen(to[i])).norm();
         if (dev > deviation) {
             deviation = dev;
             worst = i;
         }
     }
+    return deviation;
+}
+
+} // namespace
+
+bool RigidBodyModel::matchType(int type, int body, const vector<Vec3>& offsets, double rotation[3][3], double& deviation, int& worst) const {
+    // The rotation A (body frame to lab) that best places the type's shape on the body; Q = A^T.
+    Eigen::Matrix3d a;
+    deviation = fitRotation(types[type].coords, offsets, a, worst);
     fromMatrix3(a.transpose(), rotation);
     return deviation <= GeometryTolerance;
 }
@@ -242,11 +279,29 @@ Matrix6 RigidBodyModel::bodyFrameResistance(int body, const vector<Vec3>& offset
     Eigen::Matrix3d q = toMatrix3(rotation);
     const vector<int>& particles = bodyParticles[body];
     if (body < numUserBodies && !explicitTensor[body].empty()) {
-        // The tensor is given in the lab frame of the first positions about a lab point; express it
-        // in the body frame and move it to the centre of mass.
-        ResistanceTensor lab = ResistanceTensor::fromMatrix(explicitTensor[body], explicitOrigin[body]);
-        Matrix6 xi = Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor> >(lab.getMatrix(centre).data());
-        return rotate(xi, q);
+        // The tensor belongs to the body's shape at the reference positions it came with: about
+        // their centre of mass, then turned from their frame into the body frame.
+        const vector<Vec3>& reference = explicitReference[body];
+        Vec3 referenceCentre;
+        double mass = 0;
+        for (int i = 0; i < (int) particles.size(); i++) {
+            referenceCentre += reference[i]*particleMass[particles[i]];
+            mass += particleMass[particles[i]];
+        }
+        referenceCentre /= mass;
+        vector<Vec3> referenceOffsets;
+        for (const Vec3& r : reference)
+            referenceOffsets.push_back(r-referenceCentre);
+        Eigen::Matrix3d toLab;
+        int worst;
+        double deviation = fitRotation(referenceOffsets, offsets, toLab, worst);
+        if (deviation > GeometryTolerance)
+            throw OpenMMException("RigidLangevinIntegrator: the reference positions given with the resistance tensor of rigid body "+std::to_string(body)+
+                    " do not match its shape: particle "+std::to_string(particles[worst])+" is "+str(deviation)+" nm from its place after the best rigid "
+                    "motion (tolerance "+str(GeometryTolerance)+" nm). Pass the positions of the body's particles the tensor was computed for, in the order of addRigidBody()");
+        ResistanceTensor given = ResistanceTensor::fromMatrix(explicitTensor[body], explicitOrigin[body]);
+        Matrix6 xi = Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor> >(given.getMatrix(referenceCentre).data());
+        return rotate(xi, q*toLab);
     }
     // The default model: the particles with a radius as Rotne-Prager-Yamakawa beads (overlapping
     // ones too), with the volume correction of a filling model, V the volume of their union. One
@@ -277,6 +332,7 @@ int RigidBodyModel::createType(int body, const vector<Vec3>& offsets, const Vec3
         Eigen::Vector3d r = toEigen(offsets[i]);
         t.masses.push_back(m);
         t.radii.push_back(particleRadius[particles[i]]);
+        t.isVirtualSite.push_back(particleIsVirtualSite[particles[i]]);
         t.mass += m;
         inertia += m*(r.squaredNorm()*Eigen::Matrix3d::Identity()-r*r.transpose());
         extent = std::max(extent, r.norm());
@@ -318,6 +374,7 @@ int RigidBodyModel::createType(int body, const vector<Vec3>& offsets, const Vec3
             b.setZero();
         t.coords.push_back(toVec3(b));
     }
+    t.diameter = shapeDiameter(t.coords);
 
     // Friction per unit viscosity in the body frame about the centre of mass.
     t.explicitResistance = (body < numUserBodies && !explicitTensor[body].empty());
@@ -362,6 +419,7 @@ int RigidBodyModel::findOrCreateType(int body, const vector<Vec3>& offsets, cons
     for (int p : particles) {
         signature.push_back(particleMass[p]);
         signature.push_back(particleRadius[p]);
+        signature.push_back(particleIsVirtualSite[p]);
     }
     bool isExplicit = (body < numUserBodies && !explicitTensor[body].empty());
     signature.push_back(isExplicit ? 1 : 0);
@@ -386,16 +444,31 @@ int RigidBodyModel::findOrCreateType(int body, const vector<Vec3>& offsets, cons
 
 vector<BodyState> RigidBodyModel::fitStates(const vector<Vec3>& positions, const vector<Vec3>& velocities, const Vec3* box) {
     bool firstBuild = types.empty();
+    for (int b = 0; b < getNumBodies(); b++)
+        for (int p : bodyParticles[b])
+            if (!std::isfinite(positions[p][0]) || !std::isfinite(positions[p][1]) || !std::isfinite(positions[p][2]))
+                throw OpenMMException("RigidLangevinIntegrator: particle "+std::to_string(p)+" has a position that is not finite");
+    vector<Vec3> exact;
+    if (firstBuild && exactShapes->isNeeded()) {
+        // The types' shapes obey the System's constraints and virtual sites exactly.
+        exact = positions;
+        for (int b = 0; b < numUserBodies; b++) {
+            Vec3 centre;
+            vector<Vec3> offsets = unwrappedOffsets(b, positions, box, centre);
+            for (int i = 0; i < (int) offsets.size(); i++)
+                exact[bodyParticles[b][i]] = centre+offsets[i];
+        }
+        exactShapes->apply(exact);
+    }
+    const vector<Vec3>& shapes = (exact.empty() ? positions : exact);
     if (firstBuild)
         bodyType.resize(getNumBodies());
+    double halfWidth = (box == NULL ? 0.0 : 0.5*std::min(box[0][0], std::min(box[1][1], box[2][2])));
     vector<BodyState> states(getNumBodies());
     for (int b = 0; b < getNumBodies(); b++) {
         const vector<int>& particles = bodyParticles[b];
-        for (int p : particles)
-            if (!std::isfinite(positions[p][0]) || !std::isfinite(positions[p][1]) || !std::isfinite(positions[p][2]))
-                throw OpenMMException("RigidLangevinIntegrator: particle "+std::to_string(p)+" has a position that is not finite");
         BodyState& s = states[b];
-        vector<Vec3> offsets = unwrappedOffsets(b, positions, box, s.position);
+        vector<Vec3> offsets = unwrappedOffsets(b, shapes, box, s.position);
         if (firstBuild)
             bodyType[b] = findOrCreateType(b, offsets, s.position, s.rotation);
         else {
@@ -407,6 +480,11 @@ vector<BodyState> RigidBodyModel::fitStates(const vector<Vec3>& positions, const
                         " nm). Bodies keep the shape of the positions first set on the Context; to change shapes, call Context.reinitialize()");
         }
         const BodyType& t = types[bodyType[b]];
+        // Particles each within half a box of the first can still span more than half a box
+        // together, and then which images belong together is ambiguous.
+        if (box != NULL && t.diameter >= halfWidth*(1-1e-12))
+            throw OpenMMException("RigidLangevinIntegrator: "+bodyName(b, numUserBodies, particles)+" is wider than half the periodic box: two of its particles are "+
+                    str(t.diameter)+" nm apart but half the box is "+str(halfWidth)+" nm. Use a larger box");
         if (t.numRotations == 0)
             fromMatrix3(Eigen::Matrix3d::Identity(), s.rotation);
 
@@ -504,6 +582,7 @@ void RigidBodyModel::writeTypes(std::ostream& stream) const {
         writeVector(stream, t.masses);
         writeVector(stream, t.radii);
         writeVector(stream, t.coords);
+        writeVector(stream, t.isVirtualSite);
         writeValue(stream, t.mass);
         writeValue(stream, t.inertia);
         writeValue(stream, t.numRotations);
@@ -518,12 +597,14 @@ void RigidBodyModel::readTypes(std::istream& stream) {
     int numTypes;
     readValue(stream, numTypes);
     if (!stream || numTypes < 0 || numTypes > getNumBodies())
-        throw OpenMMException("RigidLangevinIntegrator: the checkpoint is corrupt or was written for another System");
+        throw OpenMMException("RigidLangevinIntegrator: the checkpoint is corrupt or was written for another System: it has "+std::to_string(numTypes)+
+                " body types for "+std::to_string(getNumBodies())+" bodies");
     vector<BodyType> newTypes(numTypes);
     for (BodyType& t : newTypes) {
         readVector(stream, t.masses);
         readVector(stream, t.radii);
         readVector(stream, t.coords);
+        readVector(stream, t.isVirtualSite);
         readValue(stream, t.mass);
         readValue(stream, t.inertia);
         readValue(stream, t.numRotations);
@@ -533,16 +614,102 @@ void RigidBodyModel::readTypes(std::istream& stream) {
     }
     vector<int> newBodyType;
     readVector(stream, newBodyType);
-    bool fits = (stream && (int) newBodyType.size() == getNumBodies());
-    for (int b = 0; fits && b < getNumBodies(); b++) {
-        int t = newBodyType[b];
-        fits = (t >= 0 && t < numTypes && newTypes[t].masses.size() == bodyParticles[b].size());
-        for (int i = 0; fits && i < (int) bodyParticles[b].size(); i++)
-            fits = (newTypes[t].masses[i] == particleMass[bodyParticles[b][i]]);
+    if (!stream)
+        throw OpenMMException("RigidLangevinIntegrator: the checkpoint is truncated (it ends inside the rigid body types)");
+    installTypes(newTypes, newBodyType, "checkpoint");
+}
+
+void RigidBodyModel::writeTypes(SerializationNode& node) const {
+    SerializationNode& typesNode = node.createChildNode("BodyTypes");
+    for (const BodyType& t : types) {
+        SerializationNode& n = typesNode.createChildNode("Type");
+        n.setDoubleProperty("mass", t.mass).setIntProperty("numRotations", t.numRotations);
+        n.setIntProperty("frictionClass", (int) t.frictionClass).setBoolProperty("explicitResistance", t.explicitResistance);
+        n.setDoubleProperty("I0", t.inertia[0]).setDoubleProperty("I1", t.inertia[1]).setDoubleProperty("I2", t.inertia[2]);
+        SerializationNode& xi = n.createChildNode("Resistance");
+        for (int i = 0; i < 6; i++)
+            for (int j = 0; j < 6; j++)
+                xi.setDoubleProperty("x"+std::to_string(i)+std::to_string(j), t.resistance(i, j));
+        for (int i = 0; i < (int) t.masses.size(); i++)
+            n.createChildNode("Particle").setDoubleProperty("m", t.masses[i]).setDoubleProperty("r", t.radii[i]).setIntProperty("site", t.isVirtualSite[i])
+                    .setDoubleProperty("x", t.coords[i][0]).setDoubleProperty("y", t.coords[i][1]).setDoubleProperty("z", t.coords[i][2]);
     }
-    if (!fits)
-        throw OpenMMException("RigidLangevinIntegrator: the checkpoint's rigid bodies do not match this System's");
+    SerializationNode& assignment = node.createChildNode("BodyTypeOfBody");
+    for (int type : bodyType)
+        assignment.createChildNode("Body").setIntProperty("type", type);
+}
+
+void RigidBodyModel::readTypes(const SerializationNode& node) {
+    vector<BodyType> newTypes;
+    vector<int> newBodyType;
+    try {
+        for (const SerializationNode& n : node.getChildNode("BodyTypes").getChildren()) {
+            BodyType t;
+            t.mass = n.getDoubleProperty("mass");
+            t.numRotations = n.getIntProperty("numRotations");
+            t.frictionClass = (FrictionClass) n.getIntProperty("frictionClass");
+            t.explicitResistance = n.getBoolProperty("explicitResistance");
+            t.inertia = Vec3(n.getDoubleProperty("I0"), n.getDoubleProperty("I1"), n.getDoubleProperty("I2"));
+            const SerializationNode& xi = n.getChildNode("Resistance");
+            for (int i = 0; i < 6; i++)
+                for (int j = 0; j < 6; j++)
+                    t.resistance(i, j) = xi.getDoubleProperty("x"+std::to_string(i)+std::to_string(j));
+            for (const SerializationNode& p : n.getChildren())
+                if (p.getName() == "Particle") {
+                    t.masses.push_back(p.getDoubleProperty("m"));
+                    t.radii.push_back(p.getDoubleProperty("r"));
+                    t.isVirtualSite.push_back(p.getIntProperty("site"));
+                    t.coords.push_back(Vec3(p.getDoubleProperty("x"), p.getDoubleProperty("y"), p.getDoubleProperty("z")));
+                }
+            newTypes.push_back(t);
+        }
+        for (const SerializationNode& b : node.getChildNode("BodyTypeOfBody").getChildren())
+            newBodyType.push_back(b.getIntProperty("type"));
+    }
+    catch (const OpenMMException& e) {
+        throw OpenMMException(string("RigidLangevinIntegrator: the State's rigid body types are incomplete: ")+e.what());
+    }
+    installTypes(newTypes, newBodyType, "State");
+}
+
+void RigidBodyModel::installTypes(const vector<BodyType>& newTypes, const vector<int>& newBodyType, const string& source) {
+    string what = "RigidLangevinIntegrator: the "+source+"'s rigid bodies do not match this System's: ";
+    int numTypes = newTypes.size();
+    if ((int) newBodyType.size() != getNumBodies())
+        throw OpenMMException(what+"it has "+std::to_string(newBodyType.size())+" bodies, the integrator moves "+std::to_string(getNumBodies())+
+                " (rigid bodies and free particles with mass)");
+    for (int t = 0; t < numTypes; t++) {
+        const BodyType& type = newTypes[t];
+        size_t n = type.masses.size();
+        bool finite = std::isfinite(type.mass) && type.resistance.allFinite();
+        for (int k = 0; k < 3; k++)
+            finite = finite && std::isfinite(type.inertia[k]) && type.inertia[k] >= 0;
+        for (size_t i = 0; i < type.coords.size(); i++)
+            finite = finite && std::isfinite(type.coords[i][0]) && std::isfinite(type.coords[i][1]) && std::isfinite(type.coords[i][2]);
+        if (n == 0 || type.radii.size() != n || type.coords.size() != n || type.isVirtualSite.size() != n || !finite || !(type.mass > 0) ||
+                (type.numRotations != 0 && type.numRotations != 2 && type.numRotations != 3) ||
+                (int) type.frictionClass < 0 || (int) type.frictionClass > (int) FrictionClass::Coupled)
+            throw OpenMMException(what+"body type "+std::to_string(t)+" is corrupt (sizes, numbers of rotations, friction class or values out of range)");
+    }
+    for (int b = 0; b < getNumBodies(); b++) {
+        int t = newBodyType[b];
+        if (t < 0 || t >= numTypes)
+            throw OpenMMException(what+bodyName(b, numUserBodies, bodyParticles[b])+" has body type "+std::to_string(t)+", but there are "+std::to_string(numTypes));
+        const BodyType& type = newTypes[t];
+        if (type.masses.size() != bodyParticles[b].size())
+            throw OpenMMException(what+bodyName(b, numUserBodies, bodyParticles[b])+" has "+std::to_string(bodyParticles[b].size())+" particles, its type "+
+                    std::to_string(type.masses.size()));
+        for (int i = 0; i < (int) bodyParticles[b].size(); i++) {
+            int p = bodyParticles[b][i];
+            if (type.masses[i] != particleMass[p] || type.isVirtualSite[i] != particleIsVirtualSite[p])
+                throw OpenMMException(what+"particle "+std::to_string(p)+" of "+bodyName(b, numUserBodies, bodyParticles[b])+" has mass "+str(particleMass[p])+
+                        (particleIsVirtualSite[p] ? " and is a virtual site" : "")+", but "+str(type.masses[i])+(type.isVirtualSite[i] ? " and a virtual site" : "")+
+                        " there");
+        }
+    }
     types = newTypes;
+    for (BodyType& t : types)
+        t.diameter = shapeDiameter(t.coords);
     bodyType = newBodyType;
     typesBySignature.clear();
 }

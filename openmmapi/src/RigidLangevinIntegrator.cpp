@@ -2,6 +2,7 @@
 #include "RigidLangevinKernels.h"
 #include "ResistanceTensor.h"
 #include "internal/GaussianRandom.h"
+#include "internal/RigidLangevinStepKernelBase.h"
 #include "openmm/CMMotionRemover.h"
 #include "openmm/Context.h"
 #include "openmm/OpenMMException.h"
@@ -87,15 +88,14 @@ const vector<int>& RigidLangevinIntegrator::getRigidBodyParticles(int index) con
     return bodies[index];
 }
 
-void RigidLangevinIntegrator::setBodyResistance(int index, const vector<double>& tensor, const Vec3& origin) {
+void RigidLangevinIntegrator::setBodyResistance(int index, const vector<double>& tensor, const Vec3& origin, const vector<Vec3>& referencePositions) {
     checkNotBound("setBodyResistance");
     checkBodyIndex(index, "setBodyResistance");
     string what = "RigidLangevinIntegrator::setBodyResistance: rigid body "+std::to_string(index);
     if (tensor.size() != 36)
         throw OpenMMException(what+": a resistance tensor needs 36 values (a 6x6 matrix, row-major), got "+std::to_string(tensor.size()));
-    ResistanceTensor t = ResistanceTensor();
     try {
-        t = ResistanceTensor::fromMatrix(tensor, origin);
+        ResistanceTensor::fromMatrix(tensor, origin);
     }
     catch (const OpenMMException& e) {
         string message = e.what();
@@ -103,24 +103,33 @@ void RigidLangevinIntegrator::setBodyResistance(int index, const vector<double>&
     }
     if (!std::isfinite(origin[0]) || !std::isfinite(origin[1]) || !std::isfinite(origin[2]))
         throw OpenMMException(what+": the origin of the resistance tensor is not finite");
-    resistances[index] = {tensor, origin};
+    if (referencePositions.size() != bodies[index].size())
+        throw OpenMMException(what+": the tensor needs the positions of the body's "+std::to_string(bodies[index].size())+" particles it was computed for, got "+
+                std::to_string(referencePositions.size())+" positions");
+    for (int i = 0; i < (int) referencePositions.size(); i++)
+        for (int k = 0; k < 3; k++)
+            if (!std::isfinite(referencePositions[i][k]))
+                throw OpenMMException(what+": reference position "+std::to_string(i)+" (particle "+std::to_string(bodies[index][i])+") is not finite");
+    resistances[index] = {tensor, origin, referencePositions};
 }
 
-bool RigidLangevinIntegrator::getBodyResistance(int index, vector<double>& tensor, Vec3& origin) const {
+bool RigidLangevinIntegrator::getBodyResistance(int index, vector<double>& tensor, Vec3& origin, vector<Vec3>& referencePositions) const {
     checkBodyIndex(index, "getBodyResistance");
     auto r = resistances.find(index);
     if (r == resistances.end()) {
         tensor.clear();
         origin = Vec3();
+        referencePositions.clear();
         return false;
     }
     tensor = r->second.tensor;
     origin = r->second.origin;
+    referencePositions = r->second.referencePositions;
     return true;
 }
 
-void RigidLangevinIntegrator::setBodyHydrodynamics(int index, const ResistanceTensor& model) {
-    setBodyResistance(index, model.getMatrix(), model.getOrigin());
+void RigidLangevinIntegrator::setBodyHydrodynamics(int index, const ResistanceTensor& model, const vector<Vec3>& referencePositions) {
+    setBodyResistance(index, model.getMatrix(), model.getOrigin(), referencePositions);
 }
 
 void RigidLangevinIntegrator::clearBodyResistance(int index) {
@@ -179,6 +188,10 @@ void RigidLangevinIntegrator::step(int steps) {
         context->calcForcesAndEnergy(true, false, getIntegrationForceGroups());
         k.execute(*context, *this);
     }
+}
+
+double RigidLangevinIntegrator::getVelocityTimeOffset() const {
+    return RigidLangevinStepKernelBase::kineticEnergyTimeShift(*this);
 }
 
 bool RigidLangevinIntegrator::kineticEnergyRequiresForce() const {
@@ -279,16 +292,27 @@ void RigidLangevinIntegrator::loadCheckpoint(std::istream& stream) {
     kernel.getAs<IntegrateRigidLangevinStepKernel>().loadCheckpoint(*context, stream);
 }
 
+namespace {
+
+const char* RotationNames[3][3] = {{"q00", "q01", "q02"}, {"q10", "q11", "q12"}, {"q20", "q21", "q22"}};
+
+/** 2: the body types come with the states, which are expressed in their frames. */
+const int ParametersVersion = 2;
+
+} // namespace
+
 void RigidLangevinIntegrator::serializeParameters(SerializationNode& node) const {
     // The exact body states, so that loading a State continues from them rather than refitting
-    // bodies to particle positions.
-    node.setIntProperty("version", 1);
+    // bodies to particle positions, and the body types that define their frames: another Context,
+    // building its types from other positions, may choose other principal axes.
+    node.setIntProperty("version", ParametersVersion);
     if (context == NULL)
         return;
+    IntegrateRigidLangevinStepKernel& k = kernel.getAs<IntegrateRigidLangevinStepKernel>();
     vector<BodyState> states;
-    kernel.getAs<IntegrateRigidLangevinStepKernel>().getBodyStates(*context, states);
+    k.getBodyStates(*context, states);
+    k.getModel(*context).writeTypes(node);
     SerializationNode& bodiesNode = node.createChildNode("BodyStates");
-    static const char* q[3][3] = {{"q00", "q01", "q02"}, {"q10", "q11", "q12"}, {"q20", "q21", "q22"}};
     for (const BodyState& s : states) {
         SerializationNode& b = bodiesNode.createChildNode("Body");
         b.setDoubleProperty("x", s.position[0]).setDoubleProperty("y", s.position[1]).setDoubleProperty("z", s.position[2]);
@@ -296,30 +320,43 @@ void RigidLangevinIntegrator::serializeParameters(SerializationNode& node) const
         b.setDoubleProperty("jx", s.angularMomentum[0]).setDoubleProperty("jy", s.angularMomentum[1]).setDoubleProperty("jz", s.angularMomentum[2]);
         for (int i = 0; i < 3; i++)
             for (int j = 0; j < 3; j++)
-                b.setDoubleProperty(q[i][j], s.rotation[i][j]);
+                b.setDoubleProperty(RotationNames[i][j], s.rotation[i][j]);
     }
 }
 
 void RigidLangevinIntegrator::deserializeParameters(const SerializationNode& node) {
-    if (node.getIntProperty("version") != 1)
-        throw OpenMMException("RigidLangevinIntegrator: unsupported version of the integrator parameters in the State");
+    int version = node.getIntProperty("version");
+    if (version != ParametersVersion)
+        throw OpenMMException("RigidLangevinIntegrator: the State's integrator parameters have version "+std::to_string(version)+", this plugin reads version "+
+                std::to_string(ParametersVersion)+" (States of version 1 lack the body types their states refer to). Load it with "
+                "setPositions() and setVelocities() instead of setState(), or save it again with this version");
     const SerializationNode* bodyStates = NULL;
-    for (const SerializationNode& child : node.getChildren())
+    const SerializationNode* types = NULL;
+    for (const SerializationNode& child : node.getChildren()) {
         if (child.getName() == "BodyStates")
             bodyStates = &child;
+        if (child.getName() == "BodyTypes")
+            types = &child;
+    }
     if (context == NULL || bodyStates == NULL)
         return;
-    static const char* q[3][3] = {{"q00", "q01", "q02"}, {"q10", "q11", "q12"}, {"q20", "q21", "q22"}};
+    if (types == NULL)
+        throw OpenMMException("RigidLangevinIntegrator: the State has body states but no body types");
     vector<BodyState> states;
-    for (const SerializationNode& b : bodyStates->getChildren()) {
-        BodyState s;
-        s.position = Vec3(b.getDoubleProperty("x"), b.getDoubleProperty("y"), b.getDoubleProperty("z"));
-        s.velocity = Vec3(b.getDoubleProperty("vx"), b.getDoubleProperty("vy"), b.getDoubleProperty("vz"));
-        s.angularMomentum = Vec3(b.getDoubleProperty("jx"), b.getDoubleProperty("jy"), b.getDoubleProperty("jz"));
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++)
-                s.rotation[i][j] = b.getDoubleProperty(q[i][j]);
-        states.push_back(s);
+    try {
+        for (const SerializationNode& b : bodyStates->getChildren()) {
+            BodyState s;
+            s.position = Vec3(b.getDoubleProperty("x"), b.getDoubleProperty("y"), b.getDoubleProperty("z"));
+            s.velocity = Vec3(b.getDoubleProperty("vx"), b.getDoubleProperty("vy"), b.getDoubleProperty("vz"));
+            s.angularMomentum = Vec3(b.getDoubleProperty("jx"), b.getDoubleProperty("jy"), b.getDoubleProperty("jz"));
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++)
+                    s.rotation[i][j] = b.getDoubleProperty(RotationNames[i][j]);
+            states.push_back(s);
+        }
     }
-    kernel.getAs<IntegrateRigidLangevinStepKernel>().setBodyStates(*context, states);
+    catch (const OpenMMException& e) {
+        throw OpenMMException(string("RigidLangevinIntegrator: the State's body states are incomplete: ")+e.what());
+    }
+    kernel.getAs<IntegrateRigidLangevinStepKernel>().setBodyTypesAndStates(*context, node, states);
 }

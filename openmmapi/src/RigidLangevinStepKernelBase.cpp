@@ -2,7 +2,9 @@
 #include "openmm/CMMotionRemover.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/ContextImpl.h"
+#include <cmath>
 #include <istream>
+#include <limits>
 #include <ostream>
 
 using namespace RigidLangevinPlugin;
@@ -11,13 +13,16 @@ using std::vector;
 
 namespace {
 
-const int CheckpointVersion = 1;
+/** 2: body types carry their virtual-site flags. */
+const int CheckpointVersion = 2;
 
 } // namespace
 
 RigidLangevinStepKernelBase::RigidLangevinStepKernelBase(std::string name, const Platform& platform) :
         IntegrateRigidLangevinStepKernel(name, platform), removerFrequency(0), bodiesInitialized(false), particlesChanged(true),
         ignoreStateChanges(false), positionsSet(false) {
+    for (double& p : coefficientParameters)
+        p = std::numeric_limits<double>::quiet_NaN();
 }
 
 void RigidLangevinStepKernelBase::initialize(const System& system, const RigidLangevinIntegrator& integrator) {
@@ -117,13 +122,39 @@ void RigidLangevinStepKernelBase::getBodyStates(ContextImpl& context, vector<Bod
     downloadBodyStates(context, states);
 }
 
-void RigidLangevinStepKernelBase::setBodyStates(ContextImpl& context, const vector<BodyState>& states) {
-    updateBodies(context);
+void RigidLangevinStepKernelBase::setBodyTypesAndStates(ContextImpl& context, const SerializationNode& types, const vector<BodyState>& states) {
     if ((int) states.size() != model->getNumBodies())
-        throw OpenMMException("RigidLangevinIntegrator: got states for "+std::to_string(states.size())+" bodies, but the integrator moves "+
+        throw OpenMMException("RigidLangevinIntegrator: the State has states for "+std::to_string(states.size())+" bodies, but the integrator moves "+
                 std::to_string(model->getNumBodies())+" (rigid bodies and free particles)");
-    uploadBodyStates(context, states);
+    model->readTypes(types);
+    installRestoredBodies(context, states);
     context.computeVirtualSites();
+}
+
+void RigidLangevinStepKernelBase::installRestoredBodies(ContextImpl& context, const vector<BodyState>& states) {
+    // A reader checks what it read: finite states and proper rotations.
+    for (int b = 0; b < (int) states.size(); b++) {
+        const BodyState& s = states[b];
+        bool good = true;
+        for (int k = 0; k < 3; k++)
+            good = good && std::isfinite(s.position[k]) && std::isfinite(s.velocity[k]) && std::isfinite(s.angularMomentum[k]);
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                double dot = 0;
+                for (int k = 0; k < 3; k++)
+                    dot += s.rotation[i][k]*s.rotation[j][k];
+                good = good && std::abs(dot-(i == j ? 1.0 : 0.0)) < 1e-6;
+            }
+        if (!good)
+            throw OpenMMException("RigidLangevinIntegrator: the restored state of body "+std::to_string(b)+" is corrupt (a value is not finite or its "
+                    "rotation is not orthonormal)");
+    }
+    initializeBodies(context, *model);
+    bodiesInitialized = true;
+    uploadBodyStates(context, states);
+    coefficients.clear();
+    particlesChanged = false;
+    positionsSet = true;
 }
 
 void RigidLangevinStepKernelBase::createCheckpoint(ContextImpl& context, std::ostream& stream) {
@@ -149,11 +180,8 @@ void RigidLangevinStepKernelBase::loadCheckpoint(ContextImpl& context, std::istr
     vector<BodyState> states(numBodies);
     stream.read((char*) states.data(), numBodies*sizeof(BodyState));
     loadRandomCheckpoint(stream);
-    initializeBodies(context, *model);
-    bodiesInitialized = true;
-    uploadBodyStates(context, states);
-    coefficients.clear();
-    particlesChanged = false;
-    positionsSet = true;
+    if (!stream)
+        throw OpenMMException("RigidLangevinIntegrator: the checkpoint is truncated (it ends inside the body states or the random number generator)");
+    installRestoredBodies(context, states);
     ignoreStateChanges = true;
 }

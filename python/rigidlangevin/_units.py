@@ -52,12 +52,13 @@ def matrix6(values):
 
 
 def resistance_result(result):
-    """(6x6 array, origin Vec3 in nm) from the wrapper's (36 values, (x, y, z)), or None."""
+    """(6x6 array, origin Vec3 in nm, reference positions (N, 3) in nm) from the wrapper's
+    (36 values, (x, y, z), [(x, y, z)]), or None."""
     if result is None:
         return None
     import openmm
-    values, origin = result
-    return matrix6(values), unit.Quantity(openmm.Vec3(*origin), unit.nanometer)
+    values, origin, reference = result
+    return matrix6(values), unit.Quantity(openmm.Vec3(*origin), unit.nanometer), vectors_in_nm(reference)
 
 
 def vectors_in_nm(vectors):

@@ -4,7 +4,9 @@ Every factory returns a ResistanceTensor: the 6x6 matrix Xi per unit viscosity w
 (force, torque) = -viscosity * Xi * (velocity, angular velocity) about the tensor's origin.
 `t.getMatrix(origin)` gives it (numpy 6x6) about any point; `t.getCenterOfResistance()`,
 `t.getCenterOfDiffusion()` and `t.getDiffusionTensor(temperature, viscosity)` (kT (eta Xi)^-1)
-describe it; `integrator.setBodyHydrodynamics(index, t)` gives a body that friction.
+describe it; `integrator.setBodyHydrodynamics(index, t, positions)` gives a body that friction,
+with `positions` those of the body's particles the model was computed for: the tensor then
+follows the body wherever a Context places it.
 
 Positions may be an (N, 3) numpy array or a list of Vec3 (nm), or a Quantity of either; radii a
 sequence or a Quantity.

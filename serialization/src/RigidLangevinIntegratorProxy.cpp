@@ -17,13 +17,16 @@ const SerializationNode* findChild(const SerializationNode& node, const std::str
     return NULL;
 }
 
+/** 2: an explicit tensor comes with the positions of the body's particles it belongs to. */
+const int Version = 2;
+
 } // namespace
 
 RigidLangevinIntegratorProxy::RigidLangevinIntegratorProxy() : SerializationProxy("RigidLangevinIntegrator") {
 }
 
 void RigidLangevinIntegratorProxy::serialize(const void* object, SerializationNode& node) const {
-    node.setIntProperty("version", 1);
+    node.setIntProperty("version", Version);
     const RigidLangevinIntegrator& integrator = *reinterpret_cast<const RigidLangevinIntegrator*>(object);
     node.setDoubleProperty("stepSize", integrator.getStepSize());
     node.setDoubleProperty("constraintTolerance", integrator.getConstraintTolerance());
@@ -39,11 +42,14 @@ void RigidLangevinIntegratorProxy::serialize(const void* object, SerializationNo
             body.createChildNode("Particle").setIntProperty("index", p);
         vector<double> tensor;
         Vec3 origin;
-        if (integrator.getBodyResistance(b, tensor, origin)) {
+        vector<Vec3> reference;
+        if (integrator.getBodyResistance(b, tensor, origin, reference)) {
             SerializationNode& resistance = body.createChildNode("Resistance");
             resistance.setDoubleProperty("x", origin[0]).setDoubleProperty("y", origin[1]).setDoubleProperty("z", origin[2]);
             for (double value : tensor)
                 resistance.createChildNode("Value").setDoubleProperty("v", value);
+            for (const Vec3& r : reference)
+                resistance.createChildNode("ReferencePosition").setDoubleProperty("x", r[0]).setDoubleProperty("y", r[1]).setDoubleProperty("z", r[2]);
         }
     }
     SerializationNode& radii = node.createChildNode("Radii");
@@ -52,8 +58,9 @@ void RigidLangevinIntegratorProxy::serialize(const void* object, SerializationNo
 }
 
 void* RigidLangevinIntegratorProxy::deserialize(const SerializationNode& node) const {
-    if (node.getIntProperty("version") != 1)
-        throw OpenMMException("RigidLangevinIntegratorProxy: unsupported version number "+std::to_string(node.getIntProperty("version")));
+    if (node.getIntProperty("version") != Version)
+        throw OpenMMException("RigidLangevinIntegratorProxy: unsupported version number "+std::to_string(node.getIntProperty("version"))+" (this plugin reads "+
+                std::to_string(Version)+"; version 1 tied explicit tensors to whatever positions a Context first had)");
     std::unique_ptr<RigidLangevinIntegrator> integrator(new RigidLangevinIntegrator(node.getDoubleProperty("temperature"),
             node.getDoubleProperty("viscosity"), node.getDoubleProperty("stepSize")));
     integrator->setConstraintTolerance(node.getDoubleProperty("constraintTolerance"));
@@ -70,10 +77,15 @@ void* RigidLangevinIntegratorProxy::deserialize(const SerializationNode& node) c
         if (resistanceNode != NULL) {
             const SerializationNode& resistance = *resistanceNode;
             vector<double> tensor;
-            for (const SerializationNode& value : resistance.getChildren())
-                tensor.push_back(value.getDoubleProperty("v"));
+            vector<Vec3> reference;
+            for (const SerializationNode& child : resistance.getChildren()) {
+                if (child.getName() == "Value")
+                    tensor.push_back(child.getDoubleProperty("v"));
+                else if (child.getName() == "ReferencePosition")
+                    reference.push_back(Vec3(child.getDoubleProperty("x"), child.getDoubleProperty("y"), child.getDoubleProperty("z")));
+            }
             Vec3 origin(resistance.getDoubleProperty("x"), resistance.getDoubleProperty("y"), resistance.getDoubleProperty("z"));
-            integrator->setBodyResistance(index, tensor, origin);
+            integrator->setBodyResistance(index, tensor, origin, reference);
         }
     }
     for (const SerializationNode& r : node.getChildNode("Radii").getChildren())

@@ -3,15 +3,18 @@
 
 #include "internal/windowsExportRigidLangevin.h"
 #include "openmm/System.h"
+#include "openmm/serialization/SerializationNode.h"
 #include "openmm/Vec3.h"
 #include <Eigen/Core>
 #include <iosfwd>
 #include <map>
+#include <memory>
 #include <vector>
 
 namespace RigidLangevinPlugin {
 
 class RigidLangevinIntegrator;
+class ExactBodyShapes;
 
 typedef Eigen::Matrix<double, 6, 6> Matrix6;
 typedef Eigen::Matrix<double, 6, 1> Vector6;
@@ -36,6 +39,12 @@ struct BodyType {
     std::vector<double> masses;          ///< per particle, in the body's particle order
     std::vector<double> radii;           ///< hydrodynamic radius per particle, 0 for none
     std::vector<OpenMM::Vec3> coords;    ///< body-frame coordinates per particle
+    /**
+     * 1 for a virtual site, 0 otherwise. OpenMM hands a site's force to its parent particles (all
+     * in this body) before the integrator sees it, so a site's own force entry must not count again.
+     */
+    std::vector<int> isVirtualSite;
+    double diameter;                     ///< the largest distance between two of its particles (from coords)
     double mass;                         ///< total mass
     OpenMM::Vec3 inertia;                ///< principal moments, ascending; 0 for axes that do not rotate
     int numRotations;                    ///< 0, 2 (linear) or 3
@@ -80,6 +89,7 @@ public:
      * link different bodies, missing radii).
      */
     RigidBodyModel(const OpenMM::System& system, const RigidLangevinIntegrator& integrator);
+    ~RigidBodyModel();
     /** The number of bodies moved, free particles included. */
     int getNumBodies() const {
         return bodyParticles.size();
@@ -110,7 +120,8 @@ public:
     }
     /**
      * Fit body states to particle positions and velocities. The first call defines the body types
-     * from these positions; later calls fit each body to its type and throw if the positions
+     * from these positions, made exact first where the System's constraints or virtual sites fix
+     * them (ExactBodyShapes); later calls fit each body to its type and throw if the positions
      * deform it. Velocities are projected onto rigid motion (momentum and angular momentum kept).
      *
      * @param positions   particle positions
@@ -133,7 +144,16 @@ public:
     void writeTypes(std::ostream& stream) const;
     /** Restore body types written by writeTypes(); throws if they do not fit this System's bodies. */
     void readTypes(std::istream& stream);
+    /**
+     * Write the body types and their assignment into a State's integrator parameters. A body
+     * state (rotation, body-frame angular momentum) means something only in its type's frame, and
+     * a Context that builds its types from other positions may choose other principal axes.
+     */
+    void writeTypes(OpenMM::SerializationNode& node) const;
+    /** Restore body types written into a State by writeTypes(); throws if they do not fit this System's bodies. */
+    void readTypes(const OpenMM::SerializationNode& node);
 private:
+    void installTypes(const std::vector<BodyType>& newTypes, const std::vector<int>& newBodyType, const std::string& source);
     int findOrCreateType(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, double rotation[3][3]);
     bool matchType(int type, int body, const std::vector<OpenMM::Vec3>& offsets, double rotation[3][3], double& deviation, int& worst) const;
     int createType(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, double rotation[3][3]);
@@ -143,8 +163,11 @@ private:
     std::vector<std::vector<int> > bodyParticles;
     std::vector<int> particleBody;
     std::vector<double> particleMass, particleRadius;
+    std::vector<int> particleIsVirtualSite;
+    std::unique_ptr<ExactBodyShapes> exactShapes;
     std::vector<std::vector<double> > explicitTensor;  // per user body, empty if none
     std::vector<OpenMM::Vec3> explicitOrigin;
+    std::vector<std::vector<OpenMM::Vec3> > explicitReference;  // the positions each explicit tensor belongs to
     std::vector<BodyType> types;
     std::vector<int> bodyType;
     std::multimap<std::vector<double>, int> typesBySignature;

@@ -27,7 +27,7 @@ public:
     void stateChanged(OpenMM::ContextImpl& context, OpenMM::State::DataType changed);
     const RigidBodyModel& getModel(OpenMM::ContextImpl& context);
     void getBodyStates(OpenMM::ContextImpl& context, std::vector<BodyState>& states);
-    void setBodyStates(OpenMM::ContextImpl& context, const std::vector<BodyState>& states);
+    void setBodyTypesAndStates(OpenMM::ContextImpl& context, const OpenMM::SerializationNode& types, const std::vector<BodyState>& states);
     void createCheckpoint(OpenMM::ContextImpl& context, std::ostream& stream);
     void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream);
     /**
@@ -67,6 +67,8 @@ protected:
     int removerFrequency;
 private:
     void updateCoefficients(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator);
+    /** Set up the kernel's storage for types just restored into the model, then place the bodies from states. */
+    void installRestoredBodies(OpenMM::ContextImpl& context, const std::vector<BodyState>& states);
     double coefficientParameters[4];
     bool bodiesInitialized, particlesChanged, ignoreStateChanges, positionsSet;
 };

@@ -117,7 +117,9 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
         for (int i = 0; i < (int) particles.size(); i++) {
             entryParticle.push_back(particles[i]);
             entryBody.push_back(k);
-            coords.push_back(mm_double4(type.coords[i][0], type.coords[i][1], type.coords[i][2], 0));
+            // w: the weight of the particle's force entry in the body's force and torque. OpenMM has
+            // already handed a virtual site's force to its parents.
+            coords.push_back(mm_double4(type.coords[i][0], type.coords[i][1], type.coords[i][2], type.isVirtualSite[i] ? 0 : 1));
         }
     }
     numEntries = entryParticle.size();

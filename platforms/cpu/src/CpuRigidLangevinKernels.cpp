@@ -111,6 +111,8 @@ void CpuIntegrateRigidLangevinStepKernel::computeBodyForce(int body, const BodyS
     force = Vec3();
     torque = Vec3();
     for (int i = 0; i < (int) particles.size(); i++) {
+        if (type.isVirtualSite[i])
+            continue;  // OpenMM has already added its force to its parents
         const Vec3& fi = f[particles[i]];
         force += fi;
         if (type.numRotations > 0)

@@ -38,6 +38,8 @@ void ReferenceIntegrateRigidLangevinStepKernel::computeBodyForces(vector<Vec3>& 
         const BodyType& type = model->getType(model->getBodyType(b));
         const vector<int>& particles = model->getBodyParticles(b);
         for (int i = 0; i < (int) particles.size(); i++) {
+            if (type.isVirtualSite[i])
+                continue;  // OpenMM has already added its force to its parents
             const Vec3& force = f[particles[i]];
             forces[b] += force;
             if (type.numRotations > 0)

@@ -36,7 +36,9 @@ DEVICE void storeVector(GLOBAL mixed4* RESTRICT array, int index, const mixed* v
 
 /**
  * The total force on body k (lab frame) and the torque about its centre of mass (body frame),
- * from OpenMM's fixed-point force buffer, summed over the body's particles in their order.
+ * from OpenMM's fixed-point force buffer, summed over the body's particles in their order, each
+ * weighted by atomCoords.w: 0 for a virtual site, whose force OpenMM has already handed to its
+ * parents, 1 otherwise.
  */
 DEVICE void loadBodyForce(int body, int numRotations, const mixed* q, GLOBAL const int* RESTRICT bodyAtomStart,
         GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT atomCoords, GLOBAL const mm_long* RESTRICT force,
@@ -47,13 +49,14 @@ DEVICE void loadBodyForce(int body, int numRotations, const mixed* q, GLOBAL con
     int end = bodyAtomStart[body+1];
     for (int entry = bodyAtomStart[body]; entry < end; entry++) {
         int slot = atomSlot[entry];
-        mixed f[3] = {scale*force[slot], scale*force[slot+PADDED_NUM_ATOMS], scale*force[slot+2*PADDED_NUM_ATOMS]};
+        mixed4 coords = atomCoords[entry];
+        mixed weight = scale*coords.w;
+        mixed f[3] = {weight*force[slot], weight*force[slot+PADDED_NUM_ATOMS], weight*force[slot+2*PADDED_NUM_ATOMS]};
         for (int i = 0; i < 3; i++)
             totalForce[i] += f[i];
         if (numRotations > 0) {
-            mixed fb[3], c[3], t[3];
+            mixed fb[3], c[3] = {coords.x, coords.y, coords.z}, t[3];
             vectorToBodyFrame(q, f, fb);
-            loadVector(atomCoords, entry, c);
             crossProduct(c, fb, t);
             for (int i = 0; i < 3; i++)
                 torque[i] += t[i];

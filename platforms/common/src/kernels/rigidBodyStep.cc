@@ -117,8 +117,8 @@ DEVICE void exactFlow(Body* b, GLOBAL const mixed* RESTRICT tp, int frictionClas
             theta[k-3] = displacement[i];
         }
     }
-    vectorToLabFrame(b->q, vb, b->velocity);
     if (b->numRotations == 0) {
+        vectorToLabFrame(b->q, vb, b->velocity);
         mixed labDx[3];
         vectorToLabFrame(b->q, dx, labDx);
         for (int i = 0; i < 3; i++)
@@ -157,15 +157,26 @@ DEVICE void exactFlow(Body* b, GLOBAL const mixed* RESTRICT tp, int frictionClas
     freeRotorRotation(b->q, b->numRotations, b->inertia, h, drive, 1);
     rotateByRotationVector(b->q, rest, drive, 0);
 
-    // The end angular momentum turns by its own free-rotor motion, scaled by c.
-    mixed vectors[6];
+    // The end angular momentum and the end velocity turn by the free-rotor motion of the end angular
+    // momentum, scaled by c, into the new body frame; not by the rest of the rotation, which is
+    // correlated with the end velocity (BodyDynamics::exactFlow). A linear body's velocity keeps its
+    // axial component: it turns by the same exact rotation, outside freeRotorRotation.
+    mixed vectors[9];
     for (int k = 0; k < 3; k++) {
         vectors[k] = tp[TP_DRIVE+3+k]*j[k];
         vectors[3+k] = j[k];
+        vectors[6+k] = vb[k];
     }
-    freeRotorRotation(0, b->numRotations, b->inertia, h, vectors, 2);
+    if (b->numRotations == 2) {
+        mixed phi[3] = {0, h*vectors[1]/b->inertia[1], h*vectors[2]/b->inertia[2]};
+        rotateByRotationVector(0, phi, &vectors[6], 1);
+        freeRotorRotation(0, b->numRotations, b->inertia, h, vectors, 2);
+    }
+    else
+        freeRotorRotation(0, b->numRotations, b->inertia, h, vectors, 3);
     for (int k = 0; k < 3; k++)
         b->angularMomentum[k] = (k >= 3-b->numRotations ? vectors[3+k] : 0);
+    vectorToLabFrame(b->q, &vectors[6], b->velocity);
 }
 
 /** BAOAB's O: the exact Ornstein-Uhlenbeck step of the velocities over h (dof random numbers). */
