@@ -19,8 +19,21 @@ namespace {
 /** Arguments of the step kernels set at every step (the others are fixed). */
 enum StepArgument {
     StepFirst = 0, StepLast = 1, StepScheme = 2, StepFrictionless = 3, StepSize = 4, StepRemoveMotion = 5, StepRenormalize = 6,
-    StepRandomIndex = 19, StepRandomPerBody = 20
+    StepRandomIndex = 19, StepRandomPerBody = 20, StepBox = 23
 };
+
+/** The first periodic box vector argument of placeBodyAtoms. */
+const int PlaceBox = 15;
+
+/** Whole boxes to subtract from r to bring it into the periodic box of reduced vectors a, b, c (as keepInBox does). */
+mm_int4 imageOf(Vec3& r, const Vec3* box) {
+    int image[3];
+    for (int i = 2; i >= 0; i--) {
+        image[i] = (int) std::floor(r[i]/box[i][i]);
+        r -= box[i]*image[i];
+    }
+    return mm_int4(image[0], image[1], image[2], 0);
+}
 
 /** Set a kernel argument of the device's "mixed" type. */
 void setMixedArg(ComputeKernel& kernel, int index, double value, bool mixedIsDouble) {
@@ -65,7 +78,7 @@ private:
 };
 
 CommonIntegrateRigidLangevinStepKernel::CommonIntegrateRigidLangevinStepKernel(string name, const Platform& platform, ComputeContext& cc) :
-        RigidLangevinStepKernelBase(name, platform), cc(cc), mixedIsDouble(false), hasSetArguments(false), numBodies(0), numEntries(0),
+        RigidLangevinStepKernelBase(name, platform), cc(cc), mixedIsDouble(false), hasSetArguments(false), periodic(false), numBodies(0), numEntries(0),
         numReductionGroups(1) {
 }
 
@@ -74,6 +87,7 @@ void CommonIntegrateRigidLangevinStepKernel::initialize(const System& system, co
     cc.initializeContexts();
     ContextSelector selector(cc);
     mixedIsDouble = (cc.getUseDoublePrecision() || cc.getUseMixedPrecision());
+    periodic = system.usesPeriodicBoundaryConditions();
     cc.getIntegrationUtilities().initRandomNumberGenerator((unsigned int) integrator.getRandomNumberSeed());
     ComputeProgram program = cc.compileProgram(RigidBodyKernelLayout::source(), RigidBodyKernelLayout::defines(cc.getPaddedNumAtoms(), mixedIsDouble));
     for (int group = 0; group < NumStepGroups; group++)
@@ -135,6 +149,7 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
     initializeArray<int>(atomBody, cc, numEntries, "rigidBodyAtomBody");
     initializeArray<int>(atomSlot, cc, numEntries, "rigidBodyAtomSlot");
     initializeArray<mm_int4>(atomCellOffset, cc, numEntries, "rigidBodyAtomCellOffset");
+    initializeArray<mm_int4>(bodyImage, cc, numBodies, "rigidBodyImage");
     initializeArray<mm_int4>(typeInfo, cc, model.getNumTypes(), "rigidBodyTypeInfo");
     if (numBodies > 0) {
         bodyType.upload(types);
@@ -208,6 +223,10 @@ void CommonIntegrateRigidLangevinStepKernel::setKernelArguments() {
         kernel->addArg();  // random index
         kernel->addArg();  // random numbers per body
         kernel->addArg(centerOfMassVelocity);
+        kernel->addArg(periodic ? 1 : 0);
+        for (int i = 0; i < 3; i++)
+            kernel->addArg();  // periodic box vectors
+        kernel->addArg(bodyImage);
     }
     placeKernel->addArg(numEntries);
     placeKernel->addArg(atomBody);
@@ -227,6 +246,7 @@ void CommonIntegrateRigidLangevinStepKernel::setKernelArguments() {
     placeKernel->addArg(cc.getVelm());
     for (int i = 0; i < 3; i++)
         placeKernel->addArg();  // periodic box vectors
+    placeKernel->addArg(bodyImage);
     centerOfMassKernel->addArg(numBodies);
     centerOfMassKernel->addArg();  // inverse total mass
     centerOfMassKernel->addArg(bodyVelocity);
@@ -248,13 +268,19 @@ void CommonIntegrateRigidLangevinStepKernel::setKernelArguments() {
     kineticEnergyKernel->addArg(kineticEnergies);
 }
 
+void CommonIntegrateRigidLangevinStepKernel::setBoxArguments() {
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    for (int i = 0; i < 3; i++) {
+        setMixed4Arg(placeKernel, PlaceBox+i, box[i], mixedIsDouble);
+        for (ComputeKernel& kernel : stepKernels)
+            setMixed4Arg(kernel, StepBox+i, box[i], mixedIsDouble);
+    }
+}
+
 void CommonIntegrateRigidLangevinStepKernel::placeAtoms() {
     if (numEntries == 0)
         return;
-    Vec3 box[3];
-    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    for (int i = 0; i < 3; i++)
-        setMixed4Arg(placeKernel, 15+i, box[i], mixedIsDouble);
     placeKernel->execute(numEntries);
 }
 
@@ -273,15 +299,23 @@ void CommonIntegrateRigidLangevinStepKernel::initializeMixedArrays(int numTypes)
 template <class Mixed, class Mixed4>
 void CommonIntegrateRigidLangevinStepKernel::uploadStates(const vector<BodyState>& states) {
     vector<Mixed4> position(numBodies), velocity(numBodies), angularMomentum(numBodies), rotation(3*numBodies);
+    vector<mm_int4> image(numBodies, mm_int4(0, 0, 0, 0));
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
     for (int k = 0; k < numBodies; k++) {
         const BodyState& s = states[bodyOrder[k]];
-        position[k] = Mixed4((Mixed) s.position[0], (Mixed) s.position[1], (Mixed) s.position[2], 0);
+        // In the box, in double precision, before rounding to the device's.
+        Vec3 r = s.position;
+        if (periodic)
+            image[k] = imageOf(r, box);
+        position[k] = Mixed4((Mixed) r[0], (Mixed) r[1], (Mixed) r[2], 0);
         velocity[k] = Mixed4((Mixed) s.velocity[0], (Mixed) s.velocity[1], (Mixed) s.velocity[2], 0);
         angularMomentum[k] = Mixed4((Mixed) s.angularMomentum[0], (Mixed) s.angularMomentum[1], (Mixed) s.angularMomentum[2], 0);
         for (int i = 0; i < 3; i++)
             rotation[3*k+i] = Mixed4((Mixed) s.rotation[i][0], (Mixed) s.rotation[i][1], (Mixed) s.rotation[i][2], 0);
     }
     bodyPosition.upload(position);
+    bodyImage.upload(image);
     bodyVelocity.upload(velocity);
     bodyAngularMomentum.upload(angularMomentum);
     bodyRotation.upload(rotation);
@@ -294,10 +328,14 @@ void CommonIntegrateRigidLangevinStepKernel::downloadStates(vector<BodyState>& s
     bodyVelocity.download(velocity);
     bodyAngularMomentum.download(angularMomentum);
     bodyRotation.download(rotation);
+    vector<mm_int4> image;
+    bodyImage.download(image);
+    Vec3 box[3];
+    cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
     states.resize(numBodies);
     for (int k = 0; k < numBodies; k++) {
         BodyState& s = states[bodyOrder[k]];
-        s.position = Vec3(position[k].x, position[k].y, position[k].z);
+        s.position = Vec3(position[k].x, position[k].y, position[k].z)+box[0]*image[k].x+box[1]*image[k].y+box[2]*image[k].z;
         s.velocity = Vec3(velocity[k].x, velocity[k].y, velocity[k].z);
         s.angularMomentum = Vec3(angularMomentum[k].x, angularMomentum[k].y, angularMomentum[k].z);
         for (int i = 0; i < 3; i++) {
@@ -319,6 +357,7 @@ void CommonIntegrateRigidLangevinStepKernel::uploadBodyStates(ContextImpl& conte
         uploadStates<float, mm_float4>(states);
     // Setting positions may have changed the cell offsets without reordering atoms.
     updateAtomSlots();
+    setBoxArguments();
     placeAtoms();
 }
 
@@ -387,6 +426,7 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
             numRandom += randomFloat4PerBody(g, scheme, frictionless)*(groupStart[g+1]-groupStart[g]);
         int randomIndex = (numRandom > 0 ? integration.prepareRandomNumbers(numRandom) : 0);
         bool renormalize = (!mixedIsDouble && cc.getStepCount()%OrthonormalizationInterval == 0);
+        setBoxArguments();
         for (int g = 0; g < NumStepGroups; g++) {
             int count = groupStart[g+1]-groupStart[g];
             if (count == 0)

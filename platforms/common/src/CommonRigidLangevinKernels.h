@@ -57,7 +57,9 @@ private:
     /** Normal random numbers, in float4s, one body of a step group takes per step. */
     static int randomFloat4PerBody(int group, RigidLangevinIntegrator::Scheme scheme, bool frictionless);
     OpenMM::ComputeContext& cc;
-    bool mixedIsDouble, hasSetArguments;
+    /** Set the periodic box vectors (and whether there is a box) as arguments of the kernels that take them. */
+    void setBoxArguments();
+    bool mixedIsDouble, hasSetArguments, periodic;
     int numBodies, numEntries, numReductionGroups;
     std::vector<int> groupStart;         // kernel body range of each step group (RigidBodyKernelLayout)
     std::vector<int> bodyOrder;          // kernel body index -> model body index
@@ -66,6 +68,7 @@ private:
     std::vector<OpenMM::mm_int4> hostTypeInfo;  // per type: dof, numRotations, halfSteps, friction class
     OpenMM::ComputeArray bodyPosition, bodyVelocity, bodyAngularMomentum, bodyRotation, bodyType, bodyAtomStart;
     OpenMM::ComputeArray atomBody, atomSlot, atomCoords, atomCellOffset;
+    OpenMM::ComputeArray bodyImage;      // int4 per body: the periodic boxes its stored centre is short of the true one
     OpenMM::ComputeArray typeParams, typeInfo, centerOfMassVelocity, kineticEnergies;
     std::vector<OpenMM::ComputeKernel> stepKernels;  // one per step group
     OpenMM::ComputeKernel placeKernel, centerOfMassKernel, kineticEnergyKernel;

@@ -65,10 +65,33 @@ DEVICE void loadBodyForce(int body, int numRotations, const mixed* q, GLOBAL con
 }
 
 /**
+ * Keep a body's centre in the periodic box, counting the boxes it has left in bodyImage, so that
+ * single precision resolves it as well after any diffusion as at the start: its true position is
+ * the stored one plus image.x a + image.y b + image.z c (OpenMM's reduced box vectors a, b, c).
+ * The image is read and written only when the centre leaves the box.
+ */
+DEVICE void keepInBox(mixed* r, int body, GLOBAL int4* RESTRICT bodyImage, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ) {
+    int sz = (int) floor(r[2]/boxVecZ.z);
+    r[0] -= sz*boxVecZ.x;
+    r[1] -= sz*boxVecZ.y;
+    r[2] -= sz*boxVecZ.z;
+    int sy = (int) floor(r[1]/boxVecY.y);
+    r[0] -= sy*boxVecY.x;
+    r[1] -= sy*boxVecY.y;
+    int sx = (int) floor(r[0]/boxVecX.x);
+    r[0] -= sx*boxVecX.x;
+    if (sx != 0 || sy != 0 || sz != 0) {
+        int4 image = bodyImage[body];
+        bodyImage[body] = make_int4(image.x+sx, image.y+sy, image.z+sz, 0);
+    }
+}
+
+/**
  * Place every particle of every body from the body states, one work item per particle:
  * r = R + Q^T b and v = V + Q^T (omega x b), with omega the body-frame angular velocity. Positions
- * are stored shifted by the atom's periodic cell offset, as OpenMM keeps them; charges (posq.w)
- * and inverse masses (velm.w) are left alone.
+ * are stored shifted by the atom's periodic cell offset, as OpenMM keeps them, and by the boxes its
+ * body has left (bodyImage): both are whole boxes, added before they meet the coordinates. Charges
+ * (posq.w) and inverse masses (velm.w) are left alone.
  */
 KERNEL void placeBodyAtoms(int numEntries, GLOBAL const int* RESTRICT atomBody, GLOBAL const int* RESTRICT atomSlot,
         GLOBAL const mixed4* RESTRICT atomCoords, GLOBAL const int4* RESTRICT atomCellOffset,
@@ -76,7 +99,7 @@ KERNEL void placeBodyAtoms(int numEntries, GLOBAL const int* RESTRICT atomBody, 
         GLOBAL const mixed4* RESTRICT bodyAngularMomentum, GLOBAL const mixed4* RESTRICT bodyRotation,
         GLOBAL const int* RESTRICT bodyType, GLOBAL const mixed* RESTRICT typeParams, GLOBAL const int4* RESTRICT typeInfo,
         GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, GLOBAL mixed4* RESTRICT velm,
-        mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ) {
+        mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ, GLOBAL const int4* RESTRICT bodyImage) {
     for (int entry = GLOBAL_ID; entry < numEntries; entry += GLOBAL_SIZE) {
         int body = atomBody[entry];
         int type = bodyType[body];
@@ -89,6 +112,8 @@ KERNEL void placeBodyAtoms(int numEntries, GLOBAL const int* RESTRICT atomBody, 
         vectorToLabFrame(q, c, offset);
         int slot = atomSlot[entry];
         int4 cell = atomCellOffset[entry];
+        int4 image = bodyImage[body];
+        cell = make_int4(cell.x+image.x, cell.y+image.y, cell.z+image.z, 0);
         mixed3 shift = make_mixed3(cell.x*boxVecX.x+cell.y*boxVecY.x+cell.z*boxVecZ.x,
                                    cell.y*boxVecY.y+cell.z*boxVecZ.y,
                                    cell.z*boxVecZ.z);

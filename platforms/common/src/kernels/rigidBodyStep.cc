@@ -291,7 +291,8 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int scheme, 
         GLOBAL mixed4* RESTRICT bodyRotation, GLOBAL const int* RESTRICT bodyType, GLOBAL const int* RESTRICT bodyAtomStart,
         GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT atomCoords, GLOBAL const mm_long* RESTRICT force,
         GLOBAL const mixed* RESTRICT typeParams, GLOBAL const int4* RESTRICT typeInfo, GLOBAL const float4* RESTRICT random,
-        int randomIndex, int randomPerBody, GLOBAL const mixed4* RESTRICT centerOfMassVelocity) {
+        int randomIndex, int randomPerBody, GLOBAL const mixed4* RESTRICT centerOfMassVelocity, int periodic,
+        mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ, GLOBAL int4* RESTRICT bodyImage) {
     int type = bodyType[body];
     GLOBAL const mixed* tp = &typeParams[type*TYPE_STRIDE];
     int4 info = typeInfo[type];
@@ -353,6 +354,8 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int scheme, 
     }
     if (renormalize && frictionClass != CLASS_SCALAR)
         orthonormalize(b.q);
+    if (periodic)
+        keepInBox(b.position, body, bodyImage, boxVecX, boxVecY, boxVecZ);
     storeVector(bodyPosition, body, b.position);
     storeVector(bodyVelocity, body, b.velocity);
     storeVector(bodyAngularMomentum, body, b.angularMomentum);
@@ -366,11 +369,13 @@ KERNEL void name(int first, int last, int scheme, int frictionless, mixed h, int
         GLOBAL mixed4* RESTRICT bodyRotation, GLOBAL const int* RESTRICT bodyType, GLOBAL const int* RESTRICT bodyAtomStart, \
         GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT atomCoords, GLOBAL const mm_long* RESTRICT force, \
         GLOBAL const mixed* RESTRICT typeParams, GLOBAL const int4* RESTRICT typeInfo, GLOBAL const float4* RESTRICT random, \
-        int randomIndex, int randomPerBody, GLOBAL const mixed4* RESTRICT centerOfMassVelocity) { \
+        int randomIndex, int randomPerBody, GLOBAL const mixed4* RESTRICT centerOfMassVelocity, int periodic, \
+        mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ, GLOBAL int4* RESTRICT bodyImage) { \
     for (int body = first+GLOBAL_ID; body < last; body += GLOBAL_SIZE) \
         stepBody(body, frictionClass, numRotations, scheme, frictionless, h, removeMotion, renormalize, bodyPosition, bodyVelocity, \
                 bodyAngularMomentum, bodyRotation, bodyType, bodyAtomStart, atomSlot, atomCoords, force, typeParams, typeInfo, \
-                random, randomIndex-randomPerBody*first, randomPerBody, centerOfMassVelocity); \
+                random, randomIndex-randomPerBody*first, randomPerBody, centerOfMassVelocity, periodic, boxVecX, boxVecY, boxVecZ, \
+                bodyImage); \
 }
 
 STEP_KERNEL(stepScalarBodies, CLASS_SCALAR, 0)
