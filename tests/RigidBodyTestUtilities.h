@@ -15,6 +15,7 @@
 #include "openmm/State.h"
 #include "openmm/System.h"
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -211,6 +212,10 @@ inline Eigen::Vector3d centerOfDiffusion(const Eigen::Matrix<double, 6, 6>& mu) 
  */
 struct Series {
     std::vector<double> values;
+    /** How many consecutive values share data (a correlation over time origins at lag L: L+1). Blocks
+     * are kept at least twice that long, or adjacent blocks would share most of their data and the
+     * error would come out too small. */
+    int overlap = 1;
     void add(double v) {
         values.push_back(v);
     }
@@ -221,6 +226,7 @@ struct Series {
         return sum/values.size();
     }
     double standardError(int numBlocks = 16) const {
+        numBlocks = std::max(2, std::min(numBlocks, (int) values.size()/(2*overlap)));
         int size = values.size()/numBlocks;
         double m = mean(), sum = 0;
         for (int b = 0; b < numBlocks; b++) {

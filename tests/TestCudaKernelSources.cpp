@@ -6,10 +6,13 @@
  * run the CUDA platform (TestCudaPlatform, and every platform-parameterized test) need a GPU.
  *
  * libOpenMMCUDA is opened with the CUDA driver library present; without a driver the build points
- * it to the toolkit's stub (tests/CMakeLists.txt), which is enough to read its strings.
+ * it to the toolkit's stub (tests/CMakeLists.txt), which is enough to read its strings. The test
+ * is skipped only where OpenMM's CUDA platform library is not installed at all; one that is there
+ * but cannot be opened, or lacks the prelude, is a failure.
  */
 #include "RigidBodyKernelLayout.h"
 #include <dlfcn.h>
+#include <unistd.h>
 #include <gtest/gtest.h>
 #include <nvrtc.h>
 #include <sstream>
@@ -24,12 +27,18 @@ namespace {
 struct CudaPrelude {
     const std::string* common = nullptr;
     const std::string* vectorOps = nullptr;
+    bool installed = false;
     std::string error;
 };
 
 CudaPrelude loadPrelude() {
     CudaPrelude prelude;
     std::string path = std::string(OPENMM_PLUGIN_DIR)+"/libOpenMMCUDA.so";
+    prelude.installed = (access(path.c_str(), F_OK) == 0);
+    if (!prelude.installed) {
+        prelude.error = path+" is not installed";
+        return prelude;
+    }
     void* library = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
     if (library == nullptr) {
         prelude.error = dlerror();
@@ -69,8 +78,9 @@ std::string compositeSource(const CudaPrelude& prelude, const std::string& preci
 
 TEST(CudaKernelSources, CompileInEveryPrecision) {
     CudaPrelude prelude = loadPrelude();
-    if (!prelude.error.empty())
+    if (!prelude.installed)
         GTEST_SKIP() << "CUDA kernel compilation check not possible: " << prelude.error;
+    ASSERT_TRUE(prelude.error.empty()) << "OpenMM's CUDA platform library is installed but unusable: " << prelude.error;
     for (std::string precision : {"single", "mixed", "double"}) {
         SCOPED_TRACE(precision+" precision");
         std::string source = compositeSource(prelude, precision);

@@ -57,6 +57,7 @@ Trajectory runFreeParticles(const PlatformConfig& platform, RigidLangevinIntegra
 template <class F>
 Series correlate(const Trajectory& t, int lag, F f) {
     Series s;
+    s.overlap = lag+1;
     int n = t.positions[0].size();
     for (int i = 0; i+lag < (int) t.positions.size(); i++) {
         double sum = 0;
