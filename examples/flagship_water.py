@@ -30,6 +30,7 @@ import numpy as np
 import openmm as mm
 import openmm.app as app
 import openmm.unit as unit
+from tqdm import tqdm
 
 import rigidlangevin as rl
 from rigidlangevin.statistics import block_error
@@ -38,25 +39,6 @@ HERE = pathlib.Path(__file__).resolve().parent
 BOX = 1.97166  # nm
 STEP = 0.002  # ps
 SOURCE_TABLE = {1.0: (300.47, 10.99), 0.1: (301.19, 11.136), 0.01: (303.04, 11.796)}  # poise: (T_avg, T_rms) for SSD
-
-
-class Progress:
-    """A progress line on stderr, rewritten at most twice a second."""
-
-    def __init__(self, label, total):
-        self.label, self.total, self.start, self.last = label, total, time.time(), 0.0
-
-    def update(self, done):
-        now = time.time()
-        if now-self.last < 0.5 and done < self.total:
-            return
-        self.last = now
-        elapsed = now-self.start
-        eta = elapsed*(self.total-done)/max(done, 1)
-        sys.stderr.write(f'\r  {self.label}: {100*done/self.total:5.1f}%  {elapsed:6.1f} s elapsed, {eta:6.1f} s to go ')
-        sys.stderr.flush()
-        if done >= self.total:
-            sys.stderr.write('\n')
 
 
 def water_system(pdb):
@@ -86,12 +68,11 @@ def start(context, pdb, temperature, seed):
 
 def run(context, integrator, steps, every, label, sample):
     """Take steps, calling sample() every `every` steps; return the speed in ns/day."""
-    progress = Progress(label, steps)
     begin = time.time()
-    for done in range(every, steps+1, every):
+    # tqdm draws a bar on a terminal and keeps quiet when stderr is a file or a pipe.
+    for _ in tqdm(range(steps//every), desc=label, unit_scale=every, unit='step', disable=None, leave=False):
         integrator.step(every)
         sample()
-        progress.update(done)
     return steps*STEP*1e-3/((time.time()-begin)/86400)
 
 

@@ -18,10 +18,9 @@ Run it on several processes with `mpirun -np 4 python script.py` (Open MPI; add
 """
 import math
 import os
-import sys
-import time
 
 import numpy as np
+from tqdm import tqdm
 
 # Variables MPI launchers (Open MPI, MPICH/Hydra, PMIx, Slurm's PMI) set in each rank's environment.
 _LAUNCHER_VARIABLES = ('OMPI_COMM_WORLD_SIZE', 'PMI_SIZE', 'PMIX_RANK', 'MPI_LOCALNRANKS')
@@ -92,20 +91,13 @@ def run_ensemble(replica, replicas, base_seed=1, label='ensemble', comm=None, pr
     rank = comm.Get_rank() if comm is not None else 0
     size = comm.Get_size() if comm is not None else 1
     mine = list(range(rank, replicas, size))
-    start = time.time()
     results = []
-    for count, index in enumerate(mine):
+    # Ranks run in step, so rank 0's share tells how far the whole ensemble is. tqdm draws a bar
+    # on a terminal and keeps quiet when stderr is a file or a pipe.
+    for index in tqdm(mine, desc=f'{label} ({size} rank(s))', unit='replica', unit_scale=size,
+                      disable=None if (progress and rank == 0) else True, leave=False):
         seed = base_seed+index
         results.append((index, seed, replica(index, seed)))
-        if progress and rank == 0:
-            # Ranks run in step, so rank 0's share tells how far the whole ensemble is.
-            elapsed = time.time()-start
-            done = count+1
-            sys.stderr.write(f'\r  {label}: replica {min(done*size, replicas)}/{replicas} on {size} rank(s), {elapsed:.1f} s elapsed, '
-                             f'{elapsed*(len(mine)-done)/done:.1f} s to go ')
-            sys.stderr.flush()
-    if progress and rank == 0:
-        sys.stderr.write('\n')
     gathered = comm.gather(results, root=0) if comm is not None else [results]
     if rank != 0:
         return None
