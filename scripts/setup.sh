@@ -79,7 +79,8 @@ OPENMM_DIR="$("$VENV/bin/python" -c "import os, openmm.version as v; print(os.pa
 
 step "configuring the build (cmake)"
 cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE="$BUILD_TYPE" \
-      -DOPENMM_DIR="$OPENMM_DIR" -DPython3_EXECUTABLE="$VENV/bin/python" -DSWIG_EXECUTABLE="$VENV/bin/swig" >"$ROOT/build.log" 2>&1 \
+      -DOPENMM_DIR="$OPENMM_DIR" -DPython3_EXECUTABLE="$VENV/bin/python" -DSWIG_EXECUTABLE="$VENV/bin/swig" \
+      -DRIGIDLANGEVIN_BUILD_EXAMPLES=ON -DRIGIDLANGEVIN_BUILD_BENCHMARKS=ON >"$ROOT/build.log" 2>&1 \
     || { tail -30 "$ROOT/build.log" >&2; fail "cmake configure (full log: build.log)"; }
 step "building (make -j$JOBS)"
 cmake --build "$BUILD" -j "$JOBS" >>"$ROOT/build.log" 2>&1 \
