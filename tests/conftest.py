@@ -26,6 +26,10 @@ def available_platforms():
     missing = [n for n in names if n in IMPLEMENTED and not mm.Platform.getPlatformByName(n).supportsKernels([KERNEL])]
     missing += [f'{n} (OpenMM could not load its platform; setup installs PoCL for OpenCL)' for n in ('CPU', 'OpenCL') if n not in names]
     cuda_failures = [f for f in mm.Platform.getPluginLoadFailures() if f.split(':')[0].endswith('/libOpenMMCUDA.so') and 'libcuda.so' not in f]
+    # The CPU platform derives from Reference and would fall back to the Reference kernels: its own
+    # kernel library failing to load must still be seen. The CUDA one may fail where OpenMM's does.
+    missing += [f'{f} (this plugin failed to load)' for f in mm.Platform.getPluginLoadFailures()
+                if 'libRigidLangevin' in f and not ('libRigidLangevinCUDA' in f and 'CUDA' not in names)]
     if 'CUDA' not in names and cuda_failures:
         missing.append('CUDA (it failed to load for another reason than a missing driver)')
     if missing:

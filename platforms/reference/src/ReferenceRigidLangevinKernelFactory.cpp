@@ -12,11 +12,13 @@ namespace {
 // Called through both entry points below. A plugin calls no exported function of its own: with
 // several plugins loaded, the dynamic linker could bind such a call to another plugin's.
 void registerFactories() {
-    // Only on the platform named "Reference": the CPU platform derives from ReferencePlatform, but
-    // it has its own, threaded kernel (platforms/cpu).
+    // On every platform derived from ReferencePlatform, as OpenMM's own plugins register theirs,
+    // unless it has the kernel already: the CPU platform derives from ReferencePlatform but has its
+    // own, threaded kernel (platforms/cpu), which it keeps whichever plugin loads first (the CPU
+    // plugin registers on the CPU platform unconditionally).
     for (int i = 0; i < Platform::getNumPlatforms(); i++) {
         Platform& platform = Platform::getPlatform(i);
-        if (platform.getName() == "Reference")
+        if (dynamic_cast<ReferencePlatform*>(&platform) != NULL && !platform.supportsKernels({IntegrateRigidLangevinStepKernel::Name()}))
             platform.registerKernelFactory(IntegrateRigidLangevinStepKernel::Name(), new ReferenceRigidLangevinKernelFactory());
     }
 }
