@@ -426,7 +426,8 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
             numRandom += randomFloat4PerBody(g, scheme, frictionless)*(groupStart[g+1]-groupStart[g]);
         int randomIndex = (numRandom > 0 ? integration.prepareRandomNumbers(numRandom) : 0);
         bool renormalize = (!mixedIsDouble && cc.getStepCount()%OrthonormalizationInterval == 0);
-        setBoxArguments();
+        if (periodic)
+            setBoxArguments();
         for (int g = 0; g < NumStepGroups; g++) {
             int count = groupStart[g+1]-groupStart[g];
             if (count == 0)
