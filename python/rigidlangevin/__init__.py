@@ -6,6 +6,15 @@ such tensors. Viscosities may be given with the units exported here (poise, cent
 openmm.unit viscosity.
 """
 import openmm  # loads OpenMM and its plugins (this one's kernels among them) before our module
+import openmm.version
+
+from ._build_info import OPENMM_VERSION as _BUILT_AGAINST
+
+# A plugin is compiled against one OpenMM release series: refuse another, rather than crash in it.
+if _BUILT_AGAINST and openmm.version.short_version.split('.')[:2] != _BUILT_AGAINST.split('.')[:2]:
+    raise ImportError(f'rigidlangevin was built against OpenMM {_BUILT_AGAINST}, but this environment has OpenMM '
+                      f'{openmm.version.short_version}: reinstall it (pip install --force-reinstall --no-cache-dir openmm-rigid-langevin, '
+                      f'or rebuild from the source) against this OpenMM')
 
 from .core import RigidLangevinIntegrator, ResistanceTensor
 from ._units import poise, centipoise, md_viscosity

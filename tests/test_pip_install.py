@@ -1,0 +1,80 @@
+"""pip install . as a user does it: a fresh virtual environment gets OpenMM from PyPI, then this
+checkout with pip (scikit-build-core builds it against that OpenMM and installs the plugin's
+libraries where it loads plugins); a small simulation runs on Reference and CPU from another
+directory; pip uninstall removes every file it installed.
+
+To build in minutes the test turns the GPU platform kernels off (their build is the same CMake
+code the developer build runs) and builds with all cores.
+"""
+import os
+import pathlib
+import subprocess
+import sys
+
+import openmm.version
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+
+SIMULATION = '''
+import openmm as mm, openmm.unit as unit, rigidlangevin as rl
+for name in ("Reference", "CPU"):
+    system = mm.System()
+    for i in range(6):
+        system.addParticle(16.0)
+    integrator = rl.RigidLangevinIntegrator(300*unit.kelvin, 0.01*rl.poise, 2*unit.femtoseconds)
+    integrator.setRandomNumberSeed(3)
+    for b in range(2):
+        integrator.addRigidBody([3*b, 3*b+1, 3*b+2])
+    for i in range(6):
+        integrator.setParticleRadius(i, 0.15)
+    context = mm.Context(system, integrator, mm.Platform.getPlatformByName(name))
+    context.setPositions([mm.Vec3(b+0.1*(i % 3 == 1), 0.1*(i % 3 == 2), 0) for b in range(2) for i in range(3)])
+    context.setVelocitiesToTemperature(300, 5)
+    integrator.step(100)
+    state = context.getState(getPositions=True)
+    print(name, "ok", integrator.computeSystemTemperature())
+'''
+
+
+def run(command, **kwargs):
+    result = subprocess.run([str(c) for c in command], capture_output=True, text=True, **kwargs)
+    assert result.returncode == 0, f'{command} failed:\n{result.stdout[-3000:]}\n{result.stderr[-3000:]}'
+    return result.stdout
+
+
+def test_pip_install_into_a_fresh_environment(tmp_path):
+    venv = tmp_path/'venv'
+    run([sys.executable, '-m', 'venv', venv])
+    python = venv/'bin'/'python'
+    run([python, '-m', 'pip', 'install', '-q', f'openmm=={openmm.version.short_version}'])
+    environment = dict(os.environ, CMAKE_BUILD_PARALLEL_LEVEL=str(os.cpu_count() or 1))
+    run([python, '-m', 'pip', 'install', '-q', ROOT, '--config-settings=cmake.define.RIGIDLANGEVIN_BUILD_OPENCL=OFF',
+         '--config-settings=cmake.define.RIGIDLANGEVIN_BUILD_CUDA=OFF'], env=environment)
+
+    # From another directory: nothing of the checkout is on the path.
+    elsewhere = tmp_path/'elsewhere'
+    elsewhere.mkdir()
+    output = run([python, '-c', SIMULATION], cwd=elsewhere)
+    assert 'Reference ok' in output and 'CPU ok' in output, output
+    where = run([python, '-c', 'import openmm.version, rigidlangevin, os; print(os.path.dirname(openmm.version.openmm_library_path)); '
+                 'print(os.path.dirname(rigidlangevin.__file__))'], cwd=elsewhere).split()
+    openmm_dir, package = pathlib.Path(where[0]), pathlib.Path(where[1])
+    assert package.parent.parent == venv/'lib'/package.parent.parent.name  # site-packages of the new environment
+    plugins = sorted(p.name for p in (openmm_dir/'lib'/'plugins').glob('libRigidLangevin*'))
+    assert plugins == ['libRigidLangevinCPU.so', 'libRigidLangevinReference.so'], plugins
+    assert (openmm_dir/'lib'/'libRigidLangevin.so').exists()
+    assert (openmm_dir/'include'/'rigidlangevin'/'RigidLangevinIntegrator.h').exists()
+
+    # Relative RPATHs only: the environment can move.
+    for library in [openmm_dir/'lib'/'libRigidLangevin.so', *(openmm_dir/'lib'/'plugins').glob('libRigidLangevin*'), *package.glob('_core*.so')]:
+        dynamic = run(['readelf', '-d', library])
+        for line in dynamic.splitlines():
+            if 'RPATH' in line or 'RUNPATH' in line:
+                paths = line.split('[', 1)[1].rstrip(']').split(':')
+                assert all(p.startswith('$ORIGIN') for p in paths), f'{library.name}: {line}'
+
+    run([python, '-m', 'pip', 'uninstall', '-y', '-q', 'openmm-rigid-langevin'])
+    assert not list((openmm_dir/'lib'/'plugins').glob('libRigidLangevin*'))
+    assert not (openmm_dir/'lib'/'libRigidLangevin.so').exists()
+    assert not (openmm_dir/'include'/'rigidlangevin').exists()
+    assert not package.exists()
