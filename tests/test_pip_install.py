@@ -65,6 +65,16 @@ def test_pip_install_into_a_fresh_environment(tmp_path):
     assert (openmm_dir/'lib'/'libRigidLangevin.so').exists()
     assert (openmm_dir/'include'/'rigidlangevin'/'RigidLangevinIntegrator.h').exists()
 
+    # The installed C++ headers are the public API alone, and enough: the README's C++ quick start
+    # compiles against them with OpenMM's (no Eigen, no internal headers) and runs.
+    headers = sorted(str(h.relative_to(openmm_dir/'include'/'rigidlangevin')) for h in (openmm_dir/'include'/'rigidlangevin').rglob('*.h'))
+    assert headers == ['ResistanceTensor.h', 'RigidLangevinIntegrator.h', 'internal/windowsExportRigidLangevin.h'], headers
+    quickstart = tmp_path/'quickstart'
+    run(['g++', '-std=c++17', f'-I{openmm_dir}/include/rigidlangevin', f'-I{openmm_dir}/include', ROOT/'examples'/'cpp'/'QuickStart.cpp',
+         f'-L{openmm_dir}/lib', f'-L{openmm_dir}/lib/plugins', '-lRigidLangevin', '-lRigidLangevinReference', '-lOpenMM',
+         f'-Wl,-rpath,{openmm_dir}/lib', f'-Wl,-rpath,{openmm_dir}/lib/plugins', '-o', quickstart])
+    run([quickstart], cwd=elsewhere)
+
     # Relative RPATHs only: the environment can move.
     for library in [openmm_dir/'lib'/'libRigidLangevin.so', *(openmm_dir/'lib'/'plugins').glob('libRigidLangevin*'), *package.glob('_core*.so')]:
         dynamic = run(['readelf', '-d', library])
