@@ -14,7 +14,7 @@
 # RIGIDLANGEVIN_LIB_DESTINATION, RIGIDLANGEVIN_PLUGIN_DESTINATION,
 # RIGIDLANGEVIN_INCLUDE_DESTINATION and RIGIDLANGEVIN_PYTHON_DESTINATION, and the installed
 # absolute directories RIGIDLANGEVIN_INSTALLED_LIB_DIR and RIGIDLANGEVIN_INSTALLED_PYTHON_DIR
-# (for relative RPATHs).
+# (for relative RPATHs), and CMAKE_INSTALL_RPATH.
 
 find_package(Python3 COMPONENTS Interpreter Development.Module)
 
@@ -67,11 +67,25 @@ if(SKBUILD)
     set(RIGIDLANGEVIN_INCLUDE_DESTINATION "${_prefix_of_root}include/rigidlangevin")
     set(RIGIDLANGEVIN_PYTHON_DESTINATION "rigidlangevin")
     set(RIGIDLANGEVIN_INSTALLED_PYTHON_DIR "${_target_platlib}/rigidlangevin")
+    # Beside OpenMM's own: the wheel's root stands for OPENMM_DIR.
+    set(RIGIDLANGEVIN_INSTALLED_LIB_DIR "${OPENMM_DIR}/lib")
 else()
+    if(NOT CMAKE_INSTALL_PREFIX OR CMAKE_INSTALL_PREFIX_INITIALIZED_TO_DEFAULT)
+        set(CMAKE_INSTALL_PREFIX "${OPENMM_DIR}" CACHE PATH "Where to install the plugin" FORCE)
+    endif()
     set(RIGIDLANGEVIN_LIB_DESTINATION "lib")
     set(RIGIDLANGEVIN_PLUGIN_DESTINATION "lib/plugins")
     set(RIGIDLANGEVIN_INCLUDE_DESTINATION "include/rigidlangevin")
     set(RIGIDLANGEVIN_PYTHON_DESTINATION "${Python3_SITEARCH}/rigidlangevin")
     set(RIGIDLANGEVIN_INSTALLED_PYTHON_DIR "${Python3_SITEARCH}/rigidlangevin")
+    set(RIGIDLANGEVIN_INSTALLED_LIB_DIR "${CMAKE_INSTALL_PREFIX}/lib")
 endif()
-set(RIGIDLANGEVIN_INSTALLED_LIB_DIR "${OPENMM_DIR}/lib")
+
+# Installed libraries find OpenMM's and each other beside them (lib/, lib/plugins/), unless they
+# were installed away from OpenMM.
+set(CMAKE_INSTALL_RPATH "\$ORIGIN;\$ORIGIN/..")
+get_filename_component(_installed "${RIGIDLANGEVIN_INSTALLED_LIB_DIR}" REALPATH)
+get_filename_component(_openmm_lib "${OPENMM_DIR}/lib" REALPATH)
+if(NOT _installed STREQUAL _openmm_lib)
+    list(APPEND CMAKE_INSTALL_RPATH "${OPENMM_DIR}/lib" "${OPENMM_DIR}/lib/plugins")
+endif()
