@@ -158,6 +158,25 @@ inline BodyShape tetrahedron(double radius, double particleMass) {
 }
 
 /**
+ * Add `count` bodies of `shape` to the System and the integrator, in a row along x 1 nm apart,
+ * every particle of radius `radius`; returns their particles' positions.
+ */
+inline std::vector<Vec3> addBodiesInARow(OpenMM::System& system, RigidLangevinPlugin::RigidLangevinIntegrator& integrator, const BodyShape& shape,
+        int count, double radius) {
+    std::vector<Vec3> positions;
+    for (int b = 0; b < count; b++) {
+        std::vector<int> particles;
+        for (int i = 0; i < (int) shape.masses.size(); i++) {
+            particles.push_back(system.addParticle(shape.masses[i]));
+            integrator.setParticleRadius(particles.back(), radius);
+            positions.push_back(toVec3(shape.reference[i]+Eigen::Vector3d(b, 0, 0)));
+        }
+        integrator.addRigidBody(particles);
+    }
+    return positions;
+}
+
+/**
  * A fixed, symmetric positive definite 6x6 resistance tensor (per unit viscosity) with strong
  * translation-rotation coupling at its own origin.
  */

@@ -174,20 +174,10 @@ TEST_P(BodyKinds, FreeParticlesMixedWithBodies) {
     const PlatformConfig& platform = GetParam();
     // 100 asymmetric bodies and 200 free particles, no forces: both thermalise to the bath; a
     // massless free particle stays where it is.
-    BodyShape shape = asymmetricBody();
     System system;
     RigidLangevinIntegrator integrator(300, 300.0, 0.002);
     integrator.setRandomNumberSeed(8);
-    std::vector<Vec3> positions;
-    for (int b = 0; b < 100; b++) {
-        std::vector<int> particles;
-        for (int i = 0; i < 4; i++) {
-            particles.push_back(system.addParticle(shape.masses[i]));
-            integrator.setParticleRadius(particles.back(), 0.1);
-            positions.push_back(toVec3(shape.reference[i]+Eigen::Vector3d(b, 0, 0)));
-        }
-        integrator.addRigidBody(particles);
-    }
+    std::vector<Vec3> positions = addBodiesInARow(system, integrator, asymmetricBody(), 100, 0.1);
     for (int i = 0; i < 200; i++) {
         int p = system.addParticle(20.0);
         integrator.setParticleRadius(p, 0.15);

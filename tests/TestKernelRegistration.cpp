@@ -24,23 +24,12 @@ public:
     }
 };
 
-/** Positions after 50 steps of two asymmetric bodies at 0.01 P, seed 5. */
+/** Positions after 50 steps of two asymmetric bodies at a viscosity of 0.01 amu/(nm ps), seed 5. */
 std::vector<Vec3> trajectoryEnd(Platform& platform) {
-    BodyShape shape = asymmetricBody();
     System system;
     RigidLangevinIntegrator integrator(300, 0.01, 0.002);
     integrator.setRandomNumberSeed(5);
-    std::vector<Vec3> positions;
-    for (int b = 0; b < 2; b++) {
-        std::vector<int> particles;
-        for (int i = 0; i < 4; i++) {
-            particles.push_back(system.addParticle(shape.masses[i]));
-            positions.push_back(toVec3(shape.reference[i]+Eigen::Vector3d(b, 0, 0)));
-        }
-        integrator.addRigidBody(particles);
-    }
-    for (int i = 0; i < system.getNumParticles(); i++)
-        integrator.setParticleRadius(i, 0.1);
+    std::vector<Vec3> positions = addBodiesInARow(system, integrator, asymmetricBody(), 2, 0.1);
     Context context(system, integrator, platform);
     context.setPositions(positions);
     context.setVelocitiesToTemperature(300, 3);
