@@ -504,25 +504,27 @@ vector<BodyState> RigidBodyModel::fitStates(const vector<Vec3>& positions, const
 }
 
 void RigidBodyModel::placeParticles(const vector<BodyState>& states, vector<Vec3>& positions, vector<Vec3>& velocities) const {
-    for (int b = 0; b < getNumBodies(); b++) {
-        const BodyState& s = states[b];
-        const BodyType& t = types[bodyType[b]];
-        const vector<int>& particles = bodyParticles[b];
-        Vec3 omega;  // body frame
-        for (int k = 0; k < 3; k++)
-            omega[k] = (t.rotates(k) ? s.angularMomentum[k]/t.inertia[k] : 0.0);
-        for (int i = 0; i < (int) particles.size(); i++) {
-            const Vec3& c = t.coords[i];
-            // Lab-frame offset Q^T b and velocity Q^T (omega x b).
-            Vec3 w = omega.cross(c);
-            Vec3 offset, vel;
-            for (int k = 0; k < 3; k++) {
-                offset[k] = s.rotation[0][k]*c[0]+s.rotation[1][k]*c[1]+s.rotation[2][k]*c[2];
-                vel[k] = s.rotation[0][k]*w[0]+s.rotation[1][k]*w[1]+s.rotation[2][k]*w[2];
-            }
-            positions[particles[i]] = s.position+offset;
-            velocities[particles[i]] = s.velocity+vel;
+    for (int b = 0; b < getNumBodies(); b++)
+        placeBodyParticles(b, states[b], positions, velocities);
+}
+
+void RigidBodyModel::placeBodyParticles(int body, const BodyState& s, vector<Vec3>& positions, vector<Vec3>& velocities) const {
+    const BodyType& t = types[bodyType[body]];
+    const vector<int>& particles = bodyParticles[body];
+    Vec3 omega;  // body frame
+    for (int k = 0; k < 3; k++)
+        omega[k] = (t.rotates(k) ? s.angularMomentum[k]/t.inertia[k] : 0.0);
+    for (int i = 0; i < (int) particles.size(); i++) {
+        const Vec3& c = t.coords[i];
+        // Lab-frame offset Q^T b and velocity Q^T (omega x b).
+        Vec3 w = omega.cross(c);
+        Vec3 offset, vel;
+        for (int k = 0; k < 3; k++) {
+            offset[k] = s.rotation[0][k]*c[0]+s.rotation[1][k]*c[1]+s.rotation[2][k]*c[2];
+            vel[k] = s.rotation[0][k]*w[0]+s.rotation[1][k]*w[1]+s.rotation[2][k]*w[2];
         }
+        positions[particles[i]] = s.position+offset;
+        velocities[particles[i]] = s.velocity+vel;
     }
 }
 

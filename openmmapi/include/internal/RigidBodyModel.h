@@ -132,6 +132,8 @@ public:
                                      const OpenMM::Vec3* box);
     /** Write the positions and velocities of every body's particles from body states. */
     void placeParticles(const std::vector<BodyState>& states, std::vector<OpenMM::Vec3>& positions, std::vector<OpenMM::Vec3>& velocities) const;
+    /** Write the positions and velocities of one body's particles from its state. */
+    void placeBodyParticles(int body, const BodyState& state, std::vector<OpenMM::Vec3>& positions, std::vector<OpenMM::Vec3>& velocities) const;
     /** Total degrees of freedom, translational ones (3 per body) and rotational ones. */
     int getNumDegreesOfFreedom() const;
     int getNumTranslationalDegreesOfFreedom() const {

@@ -1,5 +1,5 @@
-#ifndef CPU_BODY_STATES_H_
-#define CPU_BODY_STATES_H_
+#ifndef HOST_BODY_STATES_H_
+#define HOST_BODY_STATES_H_
 
 #include "internal/RigidBodyModel.h"
 #include "openmm/Vec3.h"
@@ -13,7 +13,7 @@ namespace RigidLangevinPlugin {
  * sweeping a range of bodies reads each quantity contiguously. A body is loaded into a BodyState
  * to be advanced by the shared equations of motion (BodyDynamics.h) and stored back.
  */
-struct CpuBodyStates {
+struct HostBodyStates {
     std::vector<OpenMM::Vec3> position, velocity, angularMomentum;
     std::vector<std::array<double, 9> > rotation;  ///< Q row by row
 
@@ -50,4 +50,4 @@ struct CpuBodyStates {
 
 } // namespace RigidLangevinPlugin
 
-#endif /*CPU_BODY_STATES_H_*/
+#endif /*HOST_BODY_STATES_H_*/
