@@ -35,13 +35,15 @@ TEST(DefaultHydrodynamics, BodiesAreBeadModelsOfTheirParticles) {
     System system;
     for (double m : {16.0, 1.0, 1.0, 0.0})
         system.addParticle(m);
-    RigidLangevinIntegrator integrator(300, 100, 0.002);
-    integrator.addRigidBody({0, 1, 2, 3});
+    // The model is built from a plain description of the bodies: no integrator is needed.
+    RigidBodyDescription description;
+    description.bodies.resize(1);
+    description.bodies[0].particles = {0, 1, 2, 3};
     std::vector<double> radii = {0.15, 0.12, 0.12};
     for (int i = 0; i < 3; i++)
-        integrator.setParticleRadius(i, radii[i]);
+        description.particleRadii[i] = radii[i];
     std::vector<Vec3> positions = {Vec3(0.1, 0.2, 0.3), Vec3(0.1957, 0.2, 0.3), Vec3(0.076, 0.2927, 0.3), Vec3(0.11, 0.21, 0.3)};
-    RigidBodyModel model(system, integrator);
+    RigidBodyModel model(system, description);
     std::vector<BodyState> states = model.fitStates(positions, std::vector<Vec3>(4), NULL);
     ASSERT_EQ(1, model.getNumTypes());
     const BodyType& type = model.getType(0);

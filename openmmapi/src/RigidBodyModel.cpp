@@ -1,7 +1,6 @@
 #include "internal/RigidBodyModel.h"
 #include "internal/ExactBodyShapes.h"
 #include "internal/ResistanceMath.h"
-#include "RigidLangevinIntegrator.h"
 #include "ResistanceTensor.h"
 #include "openmm/AndersenThermostat.h"
 #include "openmm/MonteCarloAnisotropicBarostat.h"
@@ -78,9 +77,9 @@ vector<int> BodyType::getActiveCoordinates() const {
     return active;
 }
 
-RigidBodyModel::RigidBodyModel(const System& system, const RigidLangevinIntegrator& integrator) {
+RigidBodyModel::RigidBodyModel(const System& system, const RigidBodyDescription& description) {
     int numParticles = system.getNumParticles();
-    numUserBodies = integrator.getNumRigidBodies();
+    numUserBodies = description.bodies.size();
     particleBody.assign(numParticles, -1);
     particleMass.resize(numParticles);
     for (int i = 0; i < numParticles; i++)
@@ -88,7 +87,7 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidLangevinIntegrat
 
     // User bodies: indices in range, no particle in two bodies, some mass.
     for (int b = 0; b < numUserBodies; b++) {
-        const vector<int>& particles = integrator.getRigidBodyParticles(b);
+        const vector<int>& particles = description.bodies[b].particles;
         double mass = 0;
         for (int p : particles) {
             if (p < 0 || p >= numParticles)
@@ -163,8 +162,11 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidLangevinIntegrat
     explicitTensor.resize(numUserBodies);
     explicitOrigin.resize(numUserBodies);
     explicitReference.resize(numUserBodies);
-    for (int b = 0; b < numUserBodies; b++)
-        integrator.getBodyResistance(b, explicitTensor[b], explicitOrigin[b], explicitReference[b]);
+    for (int b = 0; b < numUserBodies; b++) {
+        explicitTensor[b] = description.bodies[b].resistance;
+        explicitOrigin[b] = description.bodies[b].resistanceOrigin;
+        explicitReference[b] = description.bodies[b].resistanceReference;
+    }
 
     // Hydrodynamic radii: set explicitly, else sigma/2 of a NonbondedForce with nonzero epsilon.
     // A particle with mass needs one unless its body's friction is given explicitly.
@@ -183,7 +185,7 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidLangevinIntegrat
             }
         }
     }
-    for (auto& r : integrator.getParticleRadii()) {
+    for (auto& r : description.particleRadii) {
         if (r.first >= numParticles)
             throw OpenMMException("RigidLangevinIntegrator: a radius was set for particle "+std::to_string(r.first)+", but the System has only "+std::to_string(numParticles)+" particles");
         particleRadius[r.first] = r.second;

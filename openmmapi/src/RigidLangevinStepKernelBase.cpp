@@ -25,8 +25,25 @@ RigidLangevinStepKernelBase::RigidLangevinStepKernelBase(std::string name, const
         p = std::numeric_limits<double>::quiet_NaN();
 }
 
+namespace {
+
+/** The bodies the user gave the integrator, as the plain description the model is built from. */
+RigidBodyDescription describeBodies(const RigidLangevinIntegrator& integrator) {
+    RigidBodyDescription description;
+    description.bodies.resize(integrator.getNumRigidBodies());
+    for (int b = 0; b < integrator.getNumRigidBodies(); b++) {
+        RigidBodyDescription::Body& body = description.bodies[b];
+        body.particles = integrator.getRigidBodyParticles(b);
+        integrator.getBodyResistance(b, body.resistance, body.resistanceOrigin, body.resistanceReference);
+    }
+    description.particleRadii = integrator.getParticleRadii();
+    return description;
+}
+
+} // namespace
+
 void RigidLangevinStepKernelBase::initialize(const System& system, const RigidLangevinIntegrator& integrator) {
-    model.reset(new RigidBodyModel(system, integrator));
+    model.reset(new RigidBodyModel(system, describeBodies(integrator)));
     for (int i = 0; i < system.getNumForces(); i++) {
         const CMMotionRemover* remover = dynamic_cast<const CMMotionRemover*>(&system.getForce(i));
         if (remover != NULL)

@@ -1,6 +1,7 @@
 #ifndef RIGID_LANGEVIN_RIGID_BODY_MODEL_H_
 #define RIGID_LANGEVIN_RIGID_BODY_MODEL_H_
 
+#include "internal/RigidBodyDescription.h"
 #include "internal/windowsExportRigidLangevin.h"
 #include "openmm/System.h"
 #include "openmm/serialization/SerializationNode.h"
@@ -13,7 +14,6 @@
 
 namespace RigidLangevinPlugin {
 
-class RigidLangevinIntegrator;
 class ExactBodyShapes;
 
 typedef Eigen::Matrix<double, 6, 6> Matrix6;
@@ -84,11 +84,11 @@ public:
     /** Positions that deviate more than this (nm) from a rigid placement of a body are an error. */
     static constexpr double GeometryTolerance = 1e-3;
     /**
-     * Check the integrator's body definitions against the System and resolve hydrodynamic radii.
-     * Throws OpenMMException for bad input (indices, overlaps, massless bodies, constraints that
-     * link different bodies, missing radii).
+     * Check the bodies described against the System and resolve hydrodynamic radii. Throws
+     * OpenMMException for bad input (indices, overlaps, massless bodies, constraints that link
+     * different bodies, missing radii).
      */
-    RigidBodyModel(const OpenMM::System& system, const RigidLangevinIntegrator& integrator);
+    RigidBodyModel(const OpenMM::System& system, const RigidBodyDescription& description);
     ~RigidBodyModel();
     /** The number of bodies moved, free particles included. */
     int getNumBodies() const {
