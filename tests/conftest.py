@@ -16,6 +16,17 @@ PlatformChoice.context = lambda self, system, integrator: mm.Context(system, int
 
 IMPLEMENTED = ('Reference', 'CPU', 'OpenCL', 'CUDA')
 
+# The few tests that take minutes, longest first. The test command runs two pytest-xdist workers,
+# which take tests in collection order: starting these first lets the two end together.
+LONG_RUNNING = ('test_water_peers.py', 'test_pip_install.py', 'test_benchmarks.py')
+
+
+def pytest_collection_modifyitems(items):
+    def rank(item):
+        name = item.path.name
+        return LONG_RUNNING.index(name) if name in LONG_RUNNING else len(LONG_RUNNING)
+    items.sort(key=rank)  # stable: the order within a file is kept
+
 
 def available_platforms():
     """Every platform this machine has on which the plugin's kernels are registered. A platform that
