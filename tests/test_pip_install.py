@@ -62,21 +62,28 @@ def test_pip_install_into_a_fresh_environment(tmp_path):
     assert package.parent.parent == venv/'lib'/package.parent.parent.name  # site-packages of the new environment
     plugins = sorted(p.name for p in (openmm_dir/'lib'/'plugins').glob('libRigidLangevin*'))
     assert plugins == ['libRigidLangevinCPU.so', 'libRigidLangevinReference.so'], plugins
-    assert (openmm_dir/'lib'/'libRigidLangevin.so').exists()
+    libraries = sorted((openmm_dir/'lib').glob('libRigidLangevin*'))  # the API, hydrodynamics and (x86-64) AVX2 bead-kernel libraries
+    assert {'libRigidLangevin.so', 'libRigidLangevinHydrodynamics.so'} <= {library.name for library in libraries}, libraries
     assert (openmm_dir/'include'/'rigidlangevin'/'RigidLangevinIntegrator.h').exists()
 
     # The installed C++ headers are the public API alone, and enough: the README's C++ quick start
     # compiles against them with OpenMM's (no Eigen, no internal headers) and runs.
     headers = sorted(str(h.relative_to(openmm_dir/'include'/'rigidlangevin')) for h in (openmm_dir/'include'/'rigidlangevin').rglob('*.h'))
-    assert headers == ['ResistanceTensor.h', 'RigidLangevinIntegrator.h', 'internal/windowsExportRigidLangevin.h'], headers
+    assert headers == ['ResistanceTensor.h', 'RigidLangevinIntegrator.h', 'internal/windowsExportHydrodynamics.h',
+                       'internal/windowsExportRigidLangevin.h'], headers
     quickstart = tmp_path/'quickstart'
     run(['g++', '-std=c++17', f'-I{openmm_dir}/include/rigidlangevin', f'-I{openmm_dir}/include', ROOT/'examples'/'cpp'/'QuickStart.cpp',
          f'-L{openmm_dir}/lib', f'-L{openmm_dir}/lib/plugins', '-lRigidLangevin', '-lRigidLangevinReference', '-lOpenMM',
          f'-Wl,-rpath,{openmm_dir}/lib', f'-Wl,-rpath,{openmm_dir}/lib/plugins', '-o', quickstart])
     run([quickstart], cwd=elsewhere)
+    # The hydrodynamics library alone: its example links nothing of the integrator.
+    hydrodynamics = tmp_path/'hydrodynamics'
+    run(['g++', '-std=c++17', f'-I{openmm_dir}/include/rigidlangevin', f'-I{openmm_dir}/include', ROOT/'examples'/'cpp'/'Hydrodynamics.cpp',
+         f'-L{openmm_dir}/lib', '-lRigidLangevinHydrodynamics', '-lOpenMM', f'-Wl,-rpath,{openmm_dir}/lib', '-o', hydrodynamics])
+    assert 'matches Stokes-Einstein' in run([hydrodynamics], cwd=elsewhere)
 
     # Relative RPATHs only: the environment can move.
-    for library in [openmm_dir/'lib'/'libRigidLangevin.so', *(openmm_dir/'lib'/'plugins').glob('libRigidLangevin*'), *package.glob('_core*.so')]:
+    for library in [*libraries, *(openmm_dir/'lib'/'plugins').glob('libRigidLangevin*'), *package.glob('_core*.so')]:
         dynamic = run(['readelf', '-d', library])
         for line in dynamic.splitlines():
             if 'RPATH' in line or 'RUNPATH' in line:
@@ -85,6 +92,6 @@ def test_pip_install_into_a_fresh_environment(tmp_path):
 
     run([python, '-m', 'pip', 'uninstall', '-y', '-q', 'openmm-rigid-langevin'])
     assert not list((openmm_dir/'lib'/'plugins').glob('libRigidLangevin*'))
-    assert not (openmm_dir/'lib'/'libRigidLangevin.so').exists()
+    assert not list((openmm_dir/'lib').glob('libRigidLangevin*'))
     assert not (openmm_dir/'include'/'rigidlangevin').exists()
     assert not package.exists()

@@ -1,7 +1,7 @@
 #ifndef RIGID_LANGEVIN_CARLSON_INTEGRALS_H_
 #define RIGID_LANGEVIN_CARLSON_INTEGRALS_H_
 
-#include "internal/windowsExportRigidLangevin.h"
+#include "internal/windowsExportHydrodynamics.h"
 
 namespace RigidLangevinPlugin {
 
@@ -18,13 +18,13 @@ namespace CarlsonIntegrals {
  * R_F(x, y, z) = 1/2 integral_0^inf dt / sqrt((t+x)(t+y)(t+z)), for x, y, z >= 0 with at most one
  * of them zero. Throws an OpenMMException otherwise.
  */
-OPENMM_EXPORT_RIGIDLANGEVIN double carlsonRF(double x, double y, double z);
+OPENMM_EXPORT_HYDRODYNAMICS double carlsonRF(double x, double y, double z);
 
 /**
  * R_D(x, y, z) = 3/2 integral_0^inf dt / (sqrt((t+x)(t+y)) (t+z)^(3/2)), for x, y >= 0 (not both
  * zero) and z > 0. Throws an OpenMMException otherwise.
  */
-OPENMM_EXPORT_RIGIDLANGEVIN double carlsonRD(double x, double y, double z);
+OPENMM_EXPORT_HYDRODYNAMICS double carlsonRD(double x, double y, double z);
 
 } // namespace CarlsonIntegrals
 } // namespace RigidLangevinPlugin

@@ -2,7 +2,7 @@
 #define RIGID_LANGEVIN_SHELL_MODEL_H_
 
 #include "internal/ResistanceMath.h"
-#include "internal/windowsExportRigidLangevin.h"
+#include "internal/windowsExportHydrodynamics.h"
 #include "openmm/Vec3.h"
 #include <functional>
 #include <string>
@@ -29,13 +29,13 @@ typedef std::function<std::vector<OpenMM::Vec3>(double beadRadius)> Tiling;
  * a along x and b along y and z: rings about the x axis, spaced 3 beadRadius apart along the
  * meridian, each with as many beads as fit 3 beadRadius apart around it.
  */
-OPENMM_EXPORT_RIGIDLANGEVIN std::vector<OpenMM::Vec3> tileSpheroid(double a, double b, double beadRadius);
+OPENMM_EXPORT_HYDRODYNAMICS std::vector<OpenMM::Vec3> tileSpheroid(double a, double b, double beadRadius);
 
 /**
  * Throw an OpenMMException, whose message starts with caller, unless there is at least one sphere,
  * one radius per centre, every centre finite and every radius positive and finite.
  */
-OPENMM_EXPORT_RIGIDLANGEVIN void validateSpheres(const std::string& caller, const std::vector<OpenMM::Vec3>& centers,
+OPENMM_EXPORT_HYDRODYNAMICS void validateSpheres(const std::string& caller, const std::vector<OpenMM::Vec3>& centers,
                                                  const std::vector<double>& radii);
 
 /**
@@ -44,7 +44,7 @@ OPENMM_EXPORT_RIGIDLANGEVIN void validateSpheres(const std::string& caller, cons
  * spacing to a bead already placed (which happens along the seams where spheres meet). Throws if the input
  * is invalid or no bead is left.
  */
-OPENMM_EXPORT_RIGIDLANGEVIN std::vector<OpenMM::Vec3> tileSphereUnion(const std::vector<OpenMM::Vec3>& centers,
+OPENMM_EXPORT_HYDRODYNAMICS std::vector<OpenMM::Vec3> tileSphereUnion(const std::vector<OpenMM::Vec3>& centers,
                                                                       const std::vector<double>& radii, double beadRadius);
 
 /**
@@ -53,7 +53,7 @@ OPENMM_EXPORT_RIGIDLANGEVIN std::vector<OpenMM::Vec3> tileSphereUnion(const std:
  * in the tensor, so extrapolating about one origin and then moving it is the same as moving first.
  * Needs at least two distinct bead radii.
  */
-OPENMM_EXPORT_RIGIDLANGEVIN ResistanceMath::Matrix6 extrapolateToZeroBeadSize(const std::vector<double>& beadRadii,
+OPENMM_EXPORT_HYDRODYNAMICS ResistanceMath::Matrix6 extrapolateToZeroBeadSize(const std::vector<double>& beadRadii,
                                                                               const std::vector<ResistanceMath::Matrix6>& tensors);
 
 /**
@@ -62,14 +62,14 @@ OPENMM_EXPORT_RIGIDLANGEVIN ResistanceMath::Matrix6 extrapolateToZeroBeadSize(co
  * beads), the range over which the shells' error was measured to be nearly linear. approximateArea, the surface area or a rough estimate of it (nm^2), gives the first
  * guess; the tiling itself is then used to hit maxBeads to within a few percent.
  */
-OPENMM_EXPORT_RIGIDLANGEVIN std::vector<double> beadRadii(const Tiling& tiling, double approximateArea, int maxBeads, int numResolutions);
+OPENMM_EXPORT_HYDRODYNAMICS std::vector<double> beadRadii(const Tiling& tiling, double approximateArea, int maxBeads, int numResolutions);
 
 /**
  * The shell-model resistance tensor extrapolated to zero bead size, about origin: the tiling at
  * each of beadRadii(), each solved as a bead model of equal beads (no volume correction), then
  * extrapolateToZeroBeadSize(). caller starts the messages of any exception.
  */
-OPENMM_EXPORT_RIGIDLANGEVIN ResistanceMath::Matrix6 extrapolated(const std::string& caller, const Tiling& tiling, double approximateArea,
+OPENMM_EXPORT_HYDRODYNAMICS ResistanceMath::Matrix6 extrapolated(const std::string& caller, const Tiling& tiling, double approximateArea,
                                                                  const OpenMM::Vec3& origin, int maxBeads, int numResolutions);
 
 } // namespace ShellModel

@@ -1,7 +1,7 @@
 #ifndef RIGID_LANGEVIN_PERRIN_FRICTION_H_
 #define RIGID_LANGEVIN_PERRIN_FRICTION_H_
 
-#include "internal/windowsExportRigidLangevin.h"
+#include "internal/windowsExportHydrodynamics.h"
 
 namespace RigidLangevinPlugin {
 
@@ -31,7 +31,7 @@ struct PrincipalFriction {
  * and the integrals are Carlson's: chi = 2 R_F(a^2, b^2, c^2), alpha_i = (2/3) R_D(a_j^2, a_k^2, a_i^2).
  * Throws an OpenMMException unless every semi-axis is positive and finite.
  */
-OPENMM_EXPORT_RIGIDLANGEVIN PrincipalFriction ellipsoid(double a, double b, double c);
+OPENMM_EXPORT_HYDRODYNAMICS PrincipalFriction ellipsoid(double a, double b, double c);
 
 /**
  * An ellipsoid of revolution with its symmetry axis along x: semi-axis a along x, b along y and z
@@ -40,7 +40,7 @@ OPENMM_EXPORT_RIGIDLANGEVIN PrincipalFriction ellipsoid(double a, double b, doub
  * a = b; they are evaluated here in a form that is exact and smooth through the sphere. See
  * PerrinFriction.cpp for the rewriting.
  */
-OPENMM_EXPORT_RIGIDLANGEVIN PrincipalFriction spheroid(double a, double b);
+OPENMM_EXPORT_HYDRODYNAMICS PrincipalFriction spheroid(double a, double b);
 
 } // namespace PerrinFriction
 } // namespace RigidLangevinPlugin

@@ -2,7 +2,7 @@
 #define RIGID_LANGEVIN_RESISTANCE_TENSOR_H_
 
 #include "openmm/Vec3.h"
-#include "internal/windowsExportRigidLangevin.h"
+#include "internal/windowsExportHydrodynamics.h"
 #include <string>
 #include <vector>
 
@@ -21,7 +21,7 @@ namespace RigidLangevinPlugin {
  * The tensor is stored about its origin; getMatrix() gives it about any point, using the rigid
  * motion of the body (v_O = v_P + r_OP x omega, torque_P = torque_O - r_OP x force).
  */
-class OPENMM_EXPORT_RIGIDLANGEVIN ResistanceTensor {
+class OPENMM_EXPORT_HYDRODYNAMICS ResistanceTensor {
 public:
     /** An empty tensor (all zero, origin at 0); not valid for dynamics. */
     ResistanceTensor();

@@ -2,7 +2,7 @@
 #define RIGID_LANGEVIN_BEAD_HYDRODYNAMICS_H_
 
 #include "internal/ResistanceMath.h"
-#include "internal/windowsExportRigidLangevin.h"
+#include "internal/windowsExportHydrodynamics.h"
 #include "openmm/Vec3.h"
 #include <string>
 #include <vector>
@@ -34,10 +34,10 @@ enum Kernel {
  * positive number (as for OpenMM's CPU platform), otherwise the number of logical cores. The
  * threads live only while a tensor is computed.
  */
-OPENMM_EXPORT_RIGIDLANGEVIN int getNumThreads();
+OPENMM_EXPORT_HYDRODYNAMICS int getNumThreads();
 
 /** Whether the AVX2 kernel was built and this CPU (and operating system) can run it. */
-OPENMM_EXPORT_RIGIDLANGEVIN bool isAVX2KernelAvailable();
+OPENMM_EXPORT_HYDRODYNAMICS bool isAVX2KernelAvailable();
 
 /**
  * Throw an OpenMMException, whose message starts with caller, unless the bead model is usable: at
@@ -45,7 +45,7 @@ OPENMM_EXPORT_RIGIDLANGEVIN bool isAVX2KernelAvailable();
  * beads coincident (the same position and radius to 1e-10 of the radius: the same sphere twice
  * would make B singular). The message names the offending bead or beads by index.
  */
-OPENMM_EXPORT_RIGIDLANGEVIN void validate(const std::string& caller, const std::vector<OpenMM::Vec3>& positions,
+OPENMM_EXPORT_HYDRODYNAMICS void validate(const std::string& caller, const std::vector<OpenMM::Vec3>& positions,
                                           const std::vector<double>& radii);
 
 /**
@@ -54,7 +54,7 @@ OPENMM_EXPORT_RIGIDLANGEVIN void validate(const std::string& caller, const std::
  * a pivoted LDL^T factorisation and warns on std::cerr. Throws if the matrix cannot be held in
  * memory or factorised.
  */
-OPENMM_EXPORT_RIGIDLANGEVIN ResistanceMath::Matrix6 resistance(const std::string& caller, const std::vector<OpenMM::Vec3>& positions,
+OPENMM_EXPORT_HYDRODYNAMICS ResistanceMath::Matrix6 resistance(const std::string& caller, const std::vector<OpenMM::Vec3>& positions,
                                                                const std::vector<double>& radii, const OpenMM::Vec3& origin,
                                                                Kernel kernel = AutomaticKernel);
 
