@@ -2,7 +2,7 @@
 #include "RigidLangevinKernels.h"
 #include "ResistanceTensor.h"
 #include "internal/GaussianRandom.h"
-#include "internal/RigidLangevinStepKernelBase.h"
+#include "internal/StepCoefficients.h"
 #include "openmm/CMMotionRemover.h"
 #include "openmm/Context.h"
 #include "openmm/OpenMMException.h"
@@ -191,7 +191,9 @@ void RigidLangevinIntegrator::step(int steps) {
 }
 
 double RigidLangevinIntegrator::getVelocityTimeOffset() const {
-    return RigidLangevinStepKernelBase::kineticEnergyTimeShift(*this);
+    static_assert((int) SplittingScheme::ExactFlow == ExactFlow && (int) SplittingScheme::BAOAB == BAOAB && (int) SplittingScheme::Original == Original,
+                  "the model's splitting schemes carry the values of RigidLangevinIntegrator::Scheme");
+    return velocityTimeOffset(static_cast<SplittingScheme>(getScheme()), getViscosity(), getStepSize());
 }
 
 bool RigidLangevinIntegrator::kineticEnergyRequiresForce() const {

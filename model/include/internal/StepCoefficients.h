@@ -3,7 +3,6 @@
 
 #include "internal/RigidBodyModel.h"
 #include "internal/windowsExportRigidLangevin.h"
-#include "RigidLangevinIntegrator.h"
 #include <vector>
 
 namespace RigidLangevinPlugin {
@@ -29,6 +28,26 @@ struct ModeCoefficients {
 
 /** Compute the coefficients of one mode, accurately for any lambda*h (series below 0.1). */
 OPENMM_EXPORT_RIGIDLANGEVIN ModeCoefficients computeModeCoefficients(double lambda, double kT, double h);
+
+/**
+ * The splitting schemes the coefficients are computed for (RigidLangevinIntegrator::Scheme, as the
+ * model sees it: the model and coefficients depend on plain data, not on the integrator).
+ */
+enum class SplittingScheme {
+    ExactFlow = 0,  // the values of RigidLangevinIntegrator::Scheme (checked where both are seen)
+    BAOAB = 1,
+    Original = 2
+};
+
+/**
+ * The time by which reported velocities are shifted forward (half a kick) to be on-step: zero with
+ * friction under ExactFlow and BAOAB, whose stored mid-step velocities are the ones with the exact
+ * thermal distribution; half a step for velocity Verlet (no friction) and the Original scheme.
+ */
+inline double velocityTimeOffset(SplittingScheme scheme, double viscosity, double stepSize) {
+    bool onStep = (viscosity == 0 || scheme == SplittingScheme::Original);
+    return onStep ? 0.5*stepSize : 0.0;
+}
 
 /**
  * Everything a kernel needs to advance the bodies of one type by one step in a given scheme,
@@ -68,7 +87,7 @@ struct TypeStepCoefficients {
 
 /** Compute the step coefficients of every body type of a model. */
 OPENMM_EXPORT_RIGIDLANGEVIN std::vector<TypeStepCoefficients> computeStepCoefficients(const RigidBodyModel& model,
-        RigidLangevinIntegrator::Scheme scheme, double temperature, double viscosity, double stepSize);
+        SplittingScheme scheme, double temperature, double viscosity, double stepSize);
 
 /**
  * Check that the Original scheme can run: its fixed-point iteration for the friction of the second

@@ -27,6 +27,11 @@ RigidLangevinStepKernelBase::RigidLangevinStepKernelBase(std::string name, const
 
 namespace {
 
+/** The integrator's scheme, as the model's coefficients name it (the same values: RigidLangevinIntegrator.cpp). */
+SplittingScheme stepScheme(const RigidLangevinIntegrator& integrator) {
+    return static_cast<SplittingScheme>(integrator.getScheme());
+}
+
 /** The bodies the user gave the integrator, as the plain description the model is built from. */
 RigidBodyDescription describeBodies(const RigidLangevinIntegrator& integrator) {
     RigidBodyDescription description;
@@ -51,13 +56,8 @@ void RigidLangevinStepKernelBase::initialize(const System& system, const RigidLa
     }
 }
 
-double RigidLangevinStepKernelBase::kineticEnergyTimeShift(const RigidLangevinIntegrator& integrator) {
-    bool onStep = (integrator.getViscosity() == 0 || integrator.getScheme() == RigidLangevinIntegrator::Original);
-    return onStep ? 0.5*integrator.getStepSize() : 0.0;
-}
-
 bool RigidLangevinStepKernelBase::kineticEnergyRequiresForce(const RigidLangevinIntegrator& integrator) const {
-    return kineticEnergyTimeShift(integrator) != 0;
+    return velocityTimeOffset(stepScheme(integrator), integrator.getViscosity(), integrator.getStepSize()) != 0;
 }
 
 void RigidLangevinStepKernelBase::stateChanged(ContextImpl& context, State::DataType changed) {
@@ -103,7 +103,7 @@ void RigidLangevinStepKernelBase::updateCoefficients(ContextImpl& context, const
         changed |= (parameters[i] != coefficientParameters[i]);
     if (!changed)
         return;
-    vector<TypeStepCoefficients> newCoefficients = computeStepCoefficients(*model, integrator.getScheme(), parameters[0], parameters[1], parameters[2]);
+    vector<TypeStepCoefficients> newCoefficients = computeStepCoefficients(*model, stepScheme(integrator), parameters[0], parameters[1], parameters[2]);
     if (integrator.getScheme() == RigidLangevinIntegrator::Original)
         checkOriginalSchemeStability(*model, newCoefficients, parameters[2]);
     coefficients = newCoefficients;
@@ -124,7 +124,7 @@ void RigidLangevinStepKernelBase::computeKineticEnergies(ContextImpl& context, c
         double& translational, double& rotational, double& centerOfMass) {
     updateBodies(context);
     Vec3 momentum;
-    computeBodyKineticEnergies(context, kineticEnergyTimeShift(integrator), translational, rotational, momentum);
+    computeBodyKineticEnergies(context, velocityTimeOffset(stepScheme(integrator), integrator.getViscosity(), integrator.getStepSize()), translational, rotational, momentum);
     double totalMass = model->getTotalMass();
     centerOfMass = (totalMass > 0 ? 0.5*momentum.dot(momentum)/totalMass : 0.0);
 }

@@ -53,7 +53,7 @@ ModeCoefficients RigidLangevinPlugin::computeModeCoefficients(double lambda, dou
     return c;
 }
 
-vector<TypeStepCoefficients> RigidLangevinPlugin::computeStepCoefficients(const RigidBodyModel& model, RigidLangevinIntegrator::Scheme scheme,
+vector<TypeStepCoefficients> RigidLangevinPlugin::computeStepCoefficients(const RigidBodyModel& model, SplittingScheme scheme,
         double temperature, double viscosity, double stepSize) {
     const double kT = BOLTZ*temperature;
     vector<TypeStepCoefficients> result(model.getNumTypes());
@@ -92,7 +92,7 @@ vector<TypeStepCoefficients> RigidLangevinPlugin::computeStepCoefficients(const 
         c.toModes.topLeftCorner(dof, dof) = s.transpose()*mass.cwiseSqrt().asDiagonal();
         c.fromModes.topLeftCorner(dof, dof) = invSqrtMass.asDiagonal()*s;
         double lambdaMax = 0;
-        c.halfSteps = (scheme == RigidLangevinIntegrator::ExactFlow && type.numRotations > 0);
+        c.halfSteps = (scheme == SplittingScheme::ExactFlow && type.numRotations > 0);
         double modeStep = (c.halfSteps ? 0.5*stepSize : stepSize);
         for (int i = 0; i < 6; i++)
             c.modes[i] = computeModeCoefficients(i < dof ? std::max(0.0, lambda[i]) : 0.0, kT, modeStep);
@@ -109,7 +109,7 @@ vector<TypeStepCoefficients> RigidLangevinPlugin::computeStepCoefficients(const 
         c.friction = Matrix6::Zero();
         c.randomForce = Matrix6::Zero();
         c.friction.topLeftCorner(dof, dof) = xi;
-        if (scheme == RigidLangevinIntegrator::Original && viscosity > 0) {
+        if (scheme == SplittingScheme::Original && viscosity > 0) {
             Eigen::LLT<Eigen::MatrixXd> llt(xi);
             c.randomForce.topLeftCorner(dof, dof) = std::sqrt(2*kT/stepSize)*Eigen::MatrixXd(llt.matrixL());
         }

@@ -30,12 +30,6 @@ public:
     void setBodyTypesAndStates(OpenMM::ContextImpl& context, const OpenMM::SerializationNode& types, const std::vector<BodyState>& states);
     void createCheckpoint(OpenMM::ContextImpl& context, std::ostream& stream);
     void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream);
-    /**
-     * The time by which reported velocities are shifted forward (half a kick) to be on-step: zero
-     * with friction, where the stored mid-step velocities are the accurate ones, h/2 for velocity
-     * Verlet (no friction) and for the Original scheme.
-     */
-    static double kineticEnergyTimeShift(const RigidLangevinIntegrator& integrator);
 protected:
     /** Called when the model is built, or its types restored from a checkpoint: set up per-body and per-type storage. */
     virtual void initializeBodies(OpenMM::ContextImpl& context, const RigidBodyModel& model) = 0;
