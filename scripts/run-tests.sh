@@ -14,7 +14,9 @@ if ls "$ROOT"/tests/test_*.py >/dev/null 2>&1; then
     # One worker (pytest-xdist) per core, each with one CPU-platform thread: most of the time goes
     # to OpenMM's CPU platform on small water boxes, which keeps two threads only ~75% busy; two
     # single-threaded runs side by side take ~30% less time than one after another on two threads.
-    # The long tests are collected first (conftest.py), so that the workers end together.
-    OPENMM_CPU_THREADS=1 "$ROOT/.venv/bin/python" -m pytest -q -n "${JOBS:-$(nproc)}" "$ROOT/tests" || status=1
+    # The long tests are collected first (conftest.py) and handed out one at a time (by default
+    # xdist gives each worker a contiguous batch first, which put every long test on one worker),
+    # so that the workers end together.
+    OPENMM_CPU_THREADS=1 "$ROOT/.venv/bin/python" -m pytest -q -n "${JOBS:-$(nproc)}" --maxschedchunk 1 "$ROOT/tests" || status=1
 fi
 exit $status
