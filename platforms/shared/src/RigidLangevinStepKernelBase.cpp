@@ -32,6 +32,11 @@ SplittingScheme stepScheme(const RigidLangevinIntegrator& integrator) {
     return static_cast<SplittingScheme>(integrator.getScheme());
 }
 
+/** The time by which the integrator's reported velocities are kicked forward (the model's rule). */
+double integratorVelocityOffset(const RigidLangevinIntegrator& integrator) {
+    return velocityTimeOffset(stepScheme(integrator), integrator.getViscosity(), integrator.getStepSize());
+}
+
 /** The bodies the user gave the integrator, as the plain description the model is built from. */
 RigidBodyDescription describeBodies(const RigidLangevinIntegrator& integrator) {
     RigidBodyDescription description;
@@ -57,7 +62,7 @@ void RigidLangevinStepKernelBase::initialize(const System& system, const RigidLa
 }
 
 bool RigidLangevinStepKernelBase::kineticEnergyRequiresForce(const RigidLangevinIntegrator& integrator) const {
-    return velocityTimeOffset(stepScheme(integrator), integrator.getViscosity(), integrator.getStepSize()) != 0;
+    return integratorVelocityOffset(integrator) != 0;
 }
 
 void RigidLangevinStepKernelBase::stateChanged(ContextImpl& context, State::DataType changed) {
@@ -124,7 +129,7 @@ void RigidLangevinStepKernelBase::computeKineticEnergies(ContextImpl& context, c
         double& translational, double& rotational, double& centerOfMass) {
     updateBodies(context);
     Vec3 momentum;
-    computeBodyKineticEnergies(context, velocityTimeOffset(stepScheme(integrator), integrator.getViscosity(), integrator.getStepSize()), translational, rotational, momentum);
+    computeBodyKineticEnergies(context, integratorVelocityOffset(integrator), translational, rotational, momentum);
     double totalMass = model->getTotalMass();
     centerOfMass = (totalMass > 0 ? 0.5*momentum.dot(momentum)/totalMass : 0.0);
 }
