@@ -24,8 +24,7 @@ cd "$BUILD"
 # Leaks are checked, except the registries that live as long as the process: OpenMM's own, and the
 # serialization proxy this plugin registers with it (as OpenMM's plugins do).
 printf 'leak:registerRigidLangevinSerializationProxies\nleak:libOpenMM\nleak:libOpenMMCPU\nleak:libOpenMMPME\nleak:libOpenMMOpenCL\nleak:libpocl\nleak:libLLVM\n' > lsan.supp
-export RIGIDLANGEVIN_TEST_PLATFORMS="Reference,CPU"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$BUILD/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
-ctest --output-on-failure -j "$JOBS" -E "TestCudaPlatform|TestCudaKernelSources|TestSinglePrecision"
+ctest --output-on-failure -j "$JOBS" -E "TestOpenCL|TestCuda"

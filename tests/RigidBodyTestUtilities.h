@@ -286,30 +286,19 @@ inline void getParticles(OpenMM::Context& context, std::vector<Vec3>& pos, std::
 }
 
 /**
- * The platforms to run a test on: every one this machine has on which the plugin's kernels are
- * registered (TestMain.cpp has already stopped the tests if a platform OpenMM loaded lacks them),
- * or those of them that RIGIDLANGEVIN_TEST_PLATFORMS names.
+ * The platform a test executable runs on. The shared test bodies (tests/Test*.h) are compiled into
+ * one runner per platform (platforms/<platform>/tests/Test<Platform>*.cpp), which includes its
+ * platform's header (ReferenceTests.h, CpuTests.h, OpenCLTests.h, CudaTests.h) defining this
+ * function. TestMain.cpp loads the platform and this plugin's kernels for it before any test runs.
  */
-inline std::vector<std::string> platformNames() {
-    std::vector<std::string> names;
-    for (int i = 0; i < OpenMM::Platform::getNumPlatforms(); i++) {
-        OpenMM::Platform& platform = OpenMM::Platform::getPlatform(i);
-        const char* only = std::getenv("RIGIDLANGEVIN_TEST_PLATFORMS");
-        if (only != NULL && (","+std::string(only)+",").find(","+platform.getName()+",") == std::string::npos)
-            continue;
-        if (platform.supportsKernels({RigidLangevinPlugin::IntegrateRigidLangevinStepKernel::Name()}))
-            names.push_back(platform.getName());
-    }
-    return names;
-}
+struct PlatformUnderTest {
+    std::string name;           ///< OpenMM's name of the platform
+    std::string openmmLibrary;  ///< OpenMM's plugin library providing it ("" for Reference, built into libOpenMM)
+    std::string pluginLibrary;  ///< this plugin's kernel library for it ("" for Reference, linked into the tests)
+    bool mayBeMissing;          ///< only CUDA: absent where the machine has no NVIDIA driver, then reported skipped
+};
 
-/** Whether this machine has the named platform. */
-inline bool hasPlatform(const std::string& name) {
-    for (const std::string& n : platformNames())
-        if (n == name)
-            return true;
-    return false;
-}
+const PlatformUnderTest& platformUnderTest();
 
 /** A platform and the precision to run it in. */
 struct PlatformConfig {
@@ -338,37 +327,31 @@ inline std::ostream& operator<<(std::ostream& out, const PlatformConfig& config)
 }
 
 /**
- * Every platform this machine has, GPU platforms in each of the given precisions (Reference and
- * CPU compute in double precision).
+ * The platform under test as test parameters: GPU platforms in each of the given precisions,
+ * Reference and CPU (which compute in double precision) once.
  */
 inline std::vector<PlatformConfig> platformConfigs(const std::vector<std::string>& gpuPrecisions = {"double"}) {
+    PlatformConfig c;
+    c.platform = platformUnderTest().name;
+    c.precision = "double";
+    if (!c.isGPU())
+        return {c};
     std::vector<PlatformConfig> configs;
-    for (const std::string& name : platformNames()) {
-        PlatformConfig c;
-        c.platform = name;
-        if (c.isGPU())
-            for (const std::string& precision : gpuPrecisions) {
-                c.precision = precision;
-                configs.push_back(c);
-            }
-        else {
-            c.precision = "double";
-            configs.push_back(c);
-        }
+    for (const std::string& precision : gpuPrecisions) {
+        c.precision = precision;
+        configs.push_back(c);
     }
     return configs;
 }
 
-/** Every platform but Reference, GPU platforms in all three precisions: what is compared with Reference. */
+/** What is compared with Reference: the platform under test in all its precisions, unless it is Reference. */
 inline std::vector<PlatformConfig> nonReferenceConfigs() {
-    std::vector<PlatformConfig> configs;
-    for (const PlatformConfig& c : platformConfigs({"single", "mixed", "double"}))
-        if (c.platform != "Reference")
-            configs.push_back(c);
-    return configs;
+    if (platformUnderTest().name == "Reference")
+        return {};
+    return platformConfigs({"single", "mixed", "double"});
 }
 
-/** GPU platforms in single and mixed precision: the statistical tests' representative cases run there too. */
+/** A GPU platform in single and mixed precision: the statistical tests' representative cases run there too. */
 inline std::vector<PlatformConfig> lowerPrecisionConfigs() {
     std::vector<PlatformConfig> configs;
     for (const PlatformConfig& c : platformConfigs({"single", "mixed"}))

@@ -3,7 +3,7 @@
  * model of its particles with the volume correction of a filling model (V the union of their
  * spheres), computed once per body type; setBodyHydrodynamics() takes any model.
  */
-#include "RigidBodyTestUtilities.h"
+#include "ReferenceTests.h"
 #include "ResistanceTensor.h"
 #include "internal/RigidBodyModel.h"
 #include "openmm/OpenMMException.h"

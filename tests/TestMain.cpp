@@ -1,80 +1,71 @@
-// Test entry point: loads OpenMM's own platform libraries, then this build's platform kernels of
-// the plugin (the Reference kernels are linked in; the others are plugins, loaded from the build
-// tree), so tests can run on every platform this machine has.
+// Test entry point, linked into every test executable: loads the platform under test (see
+// platformUnderTest() in RigidBodyTestUtilities.h) and this build's kernels for it, then runs the
+// tests. The Reference kernels are linked in and registered first, since Reference is every
+// platform's peer; OpenMM's platform library and this plugin's kernel library for it come next, in
+// the order OpenMM loads plugins.
 //
-// Reference, CPU and OpenCL (PoCL, installed by setup) must load; CUDA may be missing only where
-// NVIDIA's driver is (libcuda.so). Every platform OpenMM does load and this plugin implements must
-// get the plugin's kernels: a kernel library that fails to load beside it stops the tests with its
-// error, rather than quietly testing fewer platforms. RIGIDLANGEVIN_TEST_PLATFORMS (say "Reference,CPU", as the
-// sanitizer build runs) limits the platforms loaded and tested.
-#include "RigidLangevinKernels.h"
-#include "openmm/Platform.h"
+// A platform that does not load stops the tests with the error, rather than letting them pass
+// without testing it (OpenCL runs on PoCL, installed by scripts/setup.sh). Only CUDA may be absent,
+// and only where NVIDIA's driver is (libcuda.so): its tests then say so, and ctest reports them as
+// skipped.
+#include "RigidBodyTestUtilities.h"
 #include <gtest/gtest.h>
-#include <cstdlib>
 #include <iostream>
-#include <map>
-#include <string>
 
 extern "C" void registerRigidLangevinReferenceKernelFactories();
 
+using namespace RigidBodyTest;
+
 namespace {
 
-bool wanted(const std::string& platform) {
-    const char* only = std::getenv("RIGIDLANGEVIN_TEST_PLATFORMS");
-    return only == NULL || (","+std::string(only)+",").find(","+platform+",") != std::string::npos;
+/** Loads a plugin library; on failure returns its error, else "". */
+std::string load(const std::string& path) {
+    try {
+        OpenMM::Platform::loadPluginLibrary(path);
+    }
+    catch (const std::exception& e) {
+        return path+": "+e.what();
+    }
+    return "";
+}
+
+bool present(const std::string& name) {
+    for (int i = 0; i < OpenMM::Platform::getNumPlatforms(); i++)
+        if (OpenMM::Platform::getPlatform(i).getName() == name)
+            return true;
+    return false;
 }
 
 } // namespace
 
 int main(int argc, char** argv) {
-    std::map<std::string, std::string> failures;
-    for (const char* library : {"libOpenMMPME.so", "libOpenMMCPU.so", "libOpenMMOpenCL.so", "libOpenMMCUDA.so"}) {
-        std::string name(library);
-        if ((name.find("OpenCL") != std::string::npos && !wanted("OpenCL")) || (name.find("CUDA") != std::string::npos && !wanted("CUDA")))
-            continue;
-        try {
-            OpenMM::Platform::loadPluginLibrary(std::string(OPENMM_PLUGIN_DIR)+"/"+library);
-        }
-        catch (const std::exception& e) {
-            failures[library] = e.what();
-        }
-    }
+    const PlatformUnderTest& platform = platformUnderTest();
     registerRigidLangevinReferenceKernelFactories();
-    for (const char* library : {"libRigidLangevinCPU.so", "libRigidLangevinOpenCL.so", "libRigidLangevinCUDA.so"}) {
-        try {
-            OpenMM::Platform::loadPluginLibrary(std::string(RIGIDLANGEVIN_BUILD_DIR)+"/"+library);
+    std::string openmmFailure;
+    if (!platform.openmmLibrary.empty()) {
+        // The CPU platform computes PME reciprocal space through OpenMM's PME plugin.
+        if (platform.name == "CPU")
+            openmmFailure = load(std::string(OPENMM_PLUGIN_DIR)+"/libOpenMMPME.so");
+        if (openmmFailure.empty())
+            openmmFailure = load(std::string(OPENMM_PLUGIN_DIR)+"/"+platform.openmmLibrary);
+    }
+    if (!present(platform.name)) {
+        if (platform.mayBeMissing && openmmFailure.find("libcuda.so") != std::string::npos) {
+            std::cout << platform.name << " platform not available: skipped (no NVIDIA driver here)" << std::endl;
+            return 0;
         }
-        catch (const std::exception& e) {
-            failures[library] = e.what();
+        std::cerr << "OpenMM's " << platform.name << " platform did not load; the tests need it. " << openmmFailure << std::endl;
+        return 1;
+    }
+    if (!platform.pluginLibrary.empty()) {
+        std::string failure = load(std::string(RIGIDLANGEVIN_BUILD_DIR)+"/"+platform.pluginLibrary);
+        if (!failure.empty()) {
+            std::cerr << "The plugin's kernels for the " << platform.name << " platform did not load. " << failure << std::endl;
+            return 1;
         }
     }
-    bool ok = true;
-    for (const char* name : {"Reference", "CPU", "OpenCL", "CUDA"}) {
-        bool present = false;
-        for (int i = 0; i < OpenMM::Platform::getNumPlatforms(); i++)
-            if (OpenMM::Platform::getPlatform(i).getName() == name) {
-                present = true;
-                if (!OpenMM::Platform::getPlatform(i).supportsKernels({RigidLangevinPlugin::IntegrateRigidLangevinStepKernel::Name()})) {
-                    std::cerr << "OpenMM's " << name << " platform is present but the plugin's kernels for it did not load" << std::endl;
-                    ok = false;
-                }
-            }
-        if (present || !wanted(name))
-            continue;
-        std::string platform(name);
-        if (platform == "CPU" || platform == "OpenCL") {
-            std::cerr << "OpenMM's " << name << " platform did not load; the tests need it (OpenCL runs on PoCL, installed by scripts/setup.sh)" << std::endl;
-            ok = false;
-        }
-        else if (platform == "CUDA" && failures["libOpenMMCUDA.so"].find("libcuda.so") == std::string::npos) {
-            // Only a machine without NVIDIA's driver may skip CUDA.
-            std::cerr << "OpenMM's CUDA platform did not load for another reason than a missing driver" << std::endl;
-            ok = false;
-        }
-    }
-    if (!ok) {
-        for (auto& f : failures)
-            std::cerr << "  " << f.first << ": " << f.second << std::endl;
+    if (!OpenMM::Platform::getPlatformByName(platform.name).supportsKernels({RigidLangevinPlugin::IntegrateRigidLangevinStepKernel::Name()})) {
+        std::cerr << "OpenMM's " << platform.name << " platform is present but the plugin's kernels for it are not registered" << std::endl;
         return 1;
     }
     ::testing::InitGoogleTest(&argc, argv);

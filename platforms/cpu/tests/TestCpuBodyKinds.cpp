@@ -1,0 +1,3 @@
+// tests/TestBodyKinds.h on the CPU platform.
+#include "CpuTests.h"
+#include "TestBodyKinds.h"

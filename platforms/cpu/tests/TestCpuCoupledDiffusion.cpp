@@ -1,0 +1,3 @@
+// tests/TestCoupledDiffusion.h on the CPU platform.
+#include "CpuTests.h"
+#include "TestCoupledDiffusion.h"

@@ -1,0 +1,3 @@
+// tests/TestEquipartition.h on the CPU platform.
+#include "CpuTests.h"
+#include "TestEquipartition.h"

@@ -1,0 +1,75 @@
+/*
+ * The CPU platform's kernel is deterministic: the bodies are split into a fixed set of chunks, each
+ * with its own random stream, and threads take whole chunks. A trajectory is then fixed by the
+ * random number seed (and the forces): the same with the same seed and number of threads, and even
+ * with another number of threads, since the chunks do not depend on it. Enough bodies that the
+ * kernel runs threaded (CpuIntegrateRigidLangevinStepKernel::MinBodiesForThreads).
+ */
+#include "CpuTests.h"
+#include "openmm/CustomExternalForce.h"
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+
+using namespace OpenMM;
+using namespace RigidLangevinPlugin;
+using namespace RigidBodyTest;
+
+namespace {
+
+/**
+ * 300 asymmetric bodies and 100 free particles in a harmonic well (a per-particle force, which the
+ * CPU platform computes the same way whatever its threads), with friction and noise.
+ */
+std::vector<Vec3> run(const std::string& threads, int seed, RigidLangevinIntegrator::Scheme scheme) {
+    BodyShape shape = asymmetricBody();
+    System system;
+    CustomExternalForce* well = new CustomExternalForce("5*(x^2+y^2+z^2)");
+    system.addForce(well);
+    RigidLangevinIntegrator integrator(300, 100.0, 0.002);
+    integrator.setScheme(scheme);
+    integrator.setRandomNumberSeed(seed);
+    std::vector<Vec3> positions;
+    for (int b = 0; b < 300; b++) {
+        Eigen::Matrix3d r = Eigen::AngleAxisd(0.1*b, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+        Eigen::Vector3d center(0.5*(b%10), 0.5*((b/10)%10), 0.5*(b/100));
+        std::vector<int> particles;
+        for (int i = 0; i < 4; i++) {
+            particles.push_back(system.addParticle(shape.masses[i]));
+            positions.push_back(toVec3(center+r*shape.reference[i]));
+        }
+        integrator.addRigidBody(particles);
+    }
+    for (int i = 0; i < 100; i++) {
+        system.addParticle(20.0);
+        positions.push_back(Vec3(0.5*(i%10), 0.5*(i/10), 2.0));
+    }
+    for (int i = 0; i < system.getNumParticles(); i++) {
+        well->addParticle(i);
+        integrator.setParticleRadius(i, 0.1);
+    }
+    Context context(system, integrator, Platform::getPlatformByName("CPU"), {{"Threads", threads}});
+    context.setPositions(positions);
+    context.setVelocitiesToTemperature(300, 5);
+    integrator.step(200);
+    return context.getState(State::Positions | State::Velocities).getPositions();
+}
+
+bool identical(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    for (int i = 0; i < (int) a.size(); i++)
+        if (!(a[i] == b[i]))
+            return false;
+    return true;
+}
+
+} // namespace
+
+TEST(CpuPlatform, DeterministicForASeedAndAnyNumberOfThreads) {
+    for (RigidLangevinIntegrator::Scheme scheme : {RigidLangevinIntegrator::ExactFlow, RigidLangevinIntegrator::BAOAB}) {
+        SCOPED_TRACE("scheme "+std::to_string(scheme));
+        std::vector<Vec3> first = run("2", 11, scheme);
+        EXPECT_TRUE(identical(first, run("2", 11, scheme))) << "same seed, same threads";
+        EXPECT_TRUE(identical(first, run("1", 11, scheme))) << "same seed, one thread";
+        EXPECT_TRUE(identical(first, run("3", 11, scheme))) << "same seed, three threads";
+        EXPECT_FALSE(identical(first, run("2", 12, scheme))) << "another seed";
+    }
+}

@@ -1,0 +1,3 @@
+// tests/TestPlatformParity.h on the CPU platform.
+#include "CpuTests.h"
+#include "TestPlatformParity.h"

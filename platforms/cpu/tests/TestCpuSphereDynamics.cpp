@@ -1,0 +1,3 @@
+// tests/TestSphereDynamics.h on the CPU platform.
+#include "CpuTests.h"
+#include "TestSphereDynamics.h"

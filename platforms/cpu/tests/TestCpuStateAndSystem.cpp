@@ -1,0 +1,3 @@
+// tests/TestStateAndSystem.h on the CPU platform.
+#include "CpuTests.h"
+#include "TestStateAndSystem.h"

@@ -1,0 +1,3 @@
+// tests/TestVirtualSites.h on the CPU platform.
+#include "CpuTests.h"
+#include "TestVirtualSites.h"

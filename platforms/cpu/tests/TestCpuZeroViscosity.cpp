@@ -1,0 +1,3 @@
+// tests/TestZeroViscosity.h on the CPU platform.
+#include "CpuTests.h"
+#include "TestZeroViscosity.h"

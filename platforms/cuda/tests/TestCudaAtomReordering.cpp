@@ -1,0 +1,3 @@
+// tests/TestAtomReordering.h on the CUDA platform.
+#include "CudaTests.h"
+#include "TestAtomReordering.h"

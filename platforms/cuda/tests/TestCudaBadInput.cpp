@@ -1,0 +1,3 @@
+// tests/TestBadInput.h on the CUDA platform.
+#include "CudaTests.h"
+#include "TestBadInput.h"

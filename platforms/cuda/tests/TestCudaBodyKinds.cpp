@@ -1,0 +1,3 @@
+// tests/TestBodyKinds.h on the CUDA platform.
+#include "CudaTests.h"
+#include "TestBodyKinds.h"

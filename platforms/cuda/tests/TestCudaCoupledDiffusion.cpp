@@ -1,0 +1,3 @@
+// tests/TestCoupledDiffusion.h on the CUDA platform.
+#include "CudaTests.h"
+#include "TestCoupledDiffusion.h"

@@ -1,0 +1,3 @@
+// tests/TestEquipartition.h on the CUDA platform.
+#include "CudaTests.h"
+#include "TestEquipartition.h"

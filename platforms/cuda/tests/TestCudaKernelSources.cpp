@@ -1,0 +1,105 @@
+/*
+ * The common platforms' device source compiles for CUDA, in every precision, exactly as the CUDA
+ * platform would compile it: OpenMM's own CUDA prelude (CudaKernelSources::common and vectorOps,
+ * read from libOpenMMCUDA), the precision's types, the plugin's definitions and source, through
+ * NVRTC. NVRTC needs no GPU, so this runs wherever the CUDA toolkit is installed; the tests that
+ * run the CUDA platform (the other runners in this directory) need a GPU.
+ *
+ * libOpenMMCUDA is opened with the CUDA driver library present; without a driver the build points
+ * it to the toolkit's stub (platforms/cuda/tests/CMakeLists.txt), which is enough to read its strings. The test
+ * is skipped only where OpenMM's CUDA platform library is not installed at all; one that is there
+ * but cannot be opened, or lacks the prelude, is a failure.
+ */
+#include "RigidBodyKernelLayout.h"
+#include <dlfcn.h>
+#include <unistd.h>
+#include <gtest/gtest.h>
+#include <nvrtc.h>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace RigidLangevinPlugin;
+
+namespace {
+
+/** OpenMM's CUDA prelude strings, from the platform library. */
+struct CudaPrelude {
+    const std::string* common = nullptr;
+    const std::string* vectorOps = nullptr;
+    bool installed = false;
+    std::string error;
+};
+
+CudaPrelude loadPrelude() {
+    CudaPrelude prelude;
+    std::string path = std::string(OPENMM_PLUGIN_DIR)+"/libOpenMMCUDA.so";
+    prelude.installed = (access(path.c_str(), F_OK) == 0);
+    if (!prelude.installed) {
+        prelude.error = path+" is not installed";
+        return prelude;
+    }
+    void* library = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
+    if (library == nullptr) {
+        prelude.error = dlerror();
+        return prelude;
+    }
+    prelude.common = static_cast<const std::string*>(dlsym(library, "_ZN6OpenMM17CudaKernelSources6commonB5cxx11E"));
+    prelude.vectorOps = static_cast<const std::string*>(dlsym(library, "_ZN6OpenMM17CudaKernelSources9vectorOpsB5cxx11E"));
+    if (prelude.common == nullptr || prelude.vectorOps == nullptr)
+        prelude.error = "libOpenMMCUDA has no CudaKernelSources::common or ::vectorOps";
+    return prelude;
+}
+
+/** The source CudaContext::compileProgram builds for the plugin's kernels in one precision. */
+std::string compositeSource(const CudaPrelude& prelude, const std::string& precision) {
+    bool doublePrecision = (precision == "double"), mixedIsDouble = (precision != "single");
+    std::string real = (doublePrecision ? "double" : "float"), mixed = (mixedIsDouble ? "double" : "float");
+    std::ostringstream src;
+    if (precision == "double")
+        src << "#define USE_DOUBLE_PRECISION 1\n";
+    if (precision == "mixed")
+        src << "#define USE_MIXED_PRECISION 1\n";
+    for (int n = 2; n <= 4; n++) {
+        src << "#define make_real" << n << " make_" << real << n << "\n";
+        src << "#define make_mixed" << n << " make_" << mixed << n << "\n";
+    }
+    src << "typedef " << real << " real;\ntypedef " << real << "2 real2;\ntypedef " << real << "3 real3;\ntypedef " << real << "4 real4;\n";
+    src << "typedef " << mixed << " mixed;\ntypedef " << mixed << "2 mixed2;\ntypedef " << mixed << "3 mixed3;\ntypedef " << mixed << "4 mixed4;\n";
+    src << "typedef unsigned int tileflags;\n";
+    src << *prelude.common << "\n";
+    for (auto& define : RigidBodyKernelLayout::defines(1024, mixedIsDouble))
+        src << "#define " << define.first << " " << define.second << "\n";
+    src << *prelude.vectorOps << RigidBodyKernelLayout::source() << "\n";
+    return src.str();
+}
+
+} // namespace
+
+TEST(CudaKernelSources, CompileInEveryPrecision) {
+    CudaPrelude prelude = loadPrelude();
+    if (!prelude.installed)
+        GTEST_SKIP() << "CUDA kernel compilation check not possible: " << prelude.error;
+    ASSERT_TRUE(prelude.error.empty()) << "OpenMM's CUDA platform library is installed but unusable: " << prelude.error;
+    for (std::string precision : {"single", "mixed", "double"}) {
+        SCOPED_TRACE(precision+" precision");
+        std::string source = compositeSource(prelude, precision);
+        nvrtcProgram program;
+        ASSERT_EQ(NVRTC_SUCCESS, nvrtcCreateProgram(&program, source.c_str(), "rigidLangevin.cu", 0, nullptr, nullptr));
+        // The CUDA platform's default options, for the oldest architecture this toolkit supports.
+        int numArchs;
+        nvrtcGetNumSupportedArchs(&numArchs);
+        std::vector<int> archs(numArchs);
+        nvrtcGetSupportedArchs(archs.data());
+        std::string arch = "-arch=compute_"+std::to_string(archs[0]);
+        const char* options[] = {arch.c_str(), "--use_fast_math"};
+        nvrtcResult result = nvrtcCompileProgram(program, 2, options);
+        size_t logSize;
+        nvrtcGetProgramLogSize(program, &logSize);
+        std::string log(logSize, '\0');
+        nvrtcGetProgramLog(program, &log[0]);
+        nvrtcDestroyProgram(&program);
+        EXPECT_EQ(NVRTC_SUCCESS, result) << log;
+        std::cout << precision << " precision: compiled for " << arch << std::endl;
+    }
+}

@@ -1,0 +1,3 @@
+// tests/TestPlatformParity.h on the CUDA platform.
+#include "CudaTests.h"
+#include "TestPlatformParity.h"

@@ -1,0 +1,3 @@
+// tests/TestSinglePrecision.h on the CUDA platform.
+#include "CudaTests.h"
+#include "TestSinglePrecision.h"

@@ -1,0 +1,3 @@
+// tests/TestSphereDynamics.h on the CUDA platform.
+#include "CudaTests.h"
+#include "TestSphereDynamics.h"

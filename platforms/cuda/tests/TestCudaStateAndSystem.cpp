@@ -1,0 +1,3 @@
+// tests/TestStateAndSystem.h on the CUDA platform.
+#include "CudaTests.h"
+#include "TestStateAndSystem.h"

@@ -1,0 +1,3 @@
+// tests/TestVirtualSites.h on the CUDA platform.
+#include "CudaTests.h"
+#include "TestVirtualSites.h"

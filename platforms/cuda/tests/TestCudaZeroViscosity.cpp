@@ -1,0 +1,3 @@
+// tests/TestZeroViscosity.h on the CUDA platform.
+#include "CudaTests.h"
+#include "TestZeroViscosity.h"

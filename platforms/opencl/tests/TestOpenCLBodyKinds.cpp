@@ -1,0 +1,3 @@
+// tests/TestBodyKinds.h on the OpenCL platform.
+#include "OpenCLTests.h"
+#include "TestBodyKinds.h"

@@ -1,0 +1,3 @@
+// tests/TestCoupledDiffusion.h on the OpenCL platform.
+#include "OpenCLTests.h"
+#include "TestCoupledDiffusion.h"

@@ -1,0 +1,3 @@
+// tests/TestEquipartition.h on the OpenCL platform.
+#include "OpenCLTests.h"
+#include "TestEquipartition.h"

@@ -1,0 +1,3 @@
+// tests/TestPlatformParity.h on the OpenCL platform.
+#include "OpenCLTests.h"
+#include "TestPlatformParity.h"

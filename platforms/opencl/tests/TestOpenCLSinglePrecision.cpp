@@ -1,0 +1,3 @@
+// tests/TestSinglePrecision.h on the OpenCL platform.
+#include "OpenCLTests.h"
+#include "TestSinglePrecision.h"

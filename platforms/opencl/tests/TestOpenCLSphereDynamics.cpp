@@ -1,0 +1,3 @@
+// tests/TestSphereDynamics.h on the OpenCL platform.
+#include "OpenCLTests.h"
+#include "TestSphereDynamics.h"

@@ -1,0 +1,3 @@
+// tests/TestStateAndSystem.h on the OpenCL platform.
+#include "OpenCLTests.h"
+#include "TestStateAndSystem.h"

@@ -1,0 +1,3 @@
+// tests/TestZeroViscosity.h on the OpenCL platform.
+#include "OpenCLTests.h"
+#include "TestZeroViscosity.h"

@@ -1,0 +1,3 @@
+// tests/TestBodyKinds.h on the Reference platform.
+#include "ReferenceTests.h"
+#include "TestBodyKinds.h"

@@ -1,0 +1,3 @@
+// tests/TestCoupledDiffusion.h on the Reference platform.
+#include "ReferenceTests.h"
+#include "TestCoupledDiffusion.h"

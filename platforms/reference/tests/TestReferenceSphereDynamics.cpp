@@ -1,0 +1,3 @@
+// tests/TestSphereDynamics.h on the Reference platform.
+#include "ReferenceTests.h"
+#include "TestSphereDynamics.h"

@@ -1,0 +1,3 @@
+// tests/TestStateAndSystem.h on the Reference platform.
+#include "ReferenceTests.h"
+#include "TestStateAndSystem.h"

@@ -1,0 +1,3 @@
+// tests/TestZeroViscosity.h on the Reference platform.
+#include "ReferenceTests.h"
+#include "TestZeroViscosity.h"
