@@ -1,8 +1,9 @@
 // Test entry point, linked into every test executable: loads the platform under test (see
 // platformUnderTest() in RigidBodyTestUtilities.h) and this build's kernels for it, then runs the
-// tests. The Reference kernels are linked in and registered first, since Reference is every
-// platform's peer; OpenMM's platform library and this plugin's kernel library for it come next, in
-// the order OpenMM loads plugins.
+// tests. The order is OpenMM's when it loads a plugin directory: OpenMM's platform library, then
+// this plugin's kernel library for it, then the Reference kernels (linked in: Reference is every
+// platform's peer), which also go on a platform derived from ReferencePlatform (CPU) for the
+// kernels it lacks.
 //
 // A platform that does not load stops the tests with the error, rather than letting them pass
 // without testing it (OpenCL runs on PoCL, installed by scripts/setup.sh). Only CUDA may be absent,
@@ -40,7 +41,6 @@ bool present(const std::string& name) {
 
 int main(int argc, char** argv) {
     const PlatformUnderTest& platform = platformUnderTest();
-    registerRigidLangevinReferenceKernelFactories();
     std::string openmmFailure;
     if (!platform.openmmLibrary.empty()) {
         // The CPU platform computes PME reciprocal space through OpenMM's PME plugin.
@@ -64,6 +64,7 @@ int main(int argc, char** argv) {
             return 1;
         }
     }
+    registerRigidLangevinReferenceKernelFactories();
     if (!OpenMM::Platform::getPlatformByName(platform.name).supportsKernels({RigidLangevinPlugin::IntegrateRigidLangevinStepKernel::Name()})) {
         std::cerr << "OpenMM's " << platform.name << " platform is present but the plugin's kernels for it are not registered" << std::endl;
         return 1;

@@ -2,6 +2,7 @@
 #define RIGID_LANGEVIN_KERNELS_H_
 
 #include "RigidLangevinIntegrator.h"
+#include "StickyDipoleForce.h"
 #include "internal/RigidBodyModel.h"
 #include "openmm/KernelImpl.h"
 #include "openmm/Platform.h"
@@ -60,6 +61,20 @@ public:
     virtual void createCheckpoint(OpenMM::ContextImpl& context, std::ostream& stream) = 0;
     /** Read a checkpoint written by createCheckpoint(). */
     virtual void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream) = 0;
+};
+
+/** Computes StickyDipoleForce's energy and forces. */
+class CalcStickyDipoleForceKernel : public OpenMM::KernelImpl {
+public:
+    static std::string Name() {
+        return "CalcStickyDipoleForce";
+    }
+    CalcStickyDipoleForceKernel(std::string name, const OpenMM::Platform& platform) : OpenMM::KernelImpl(name, platform) {
+    }
+    /** Copy the force's parameters (StickyDipoleForceImpl has checked them against the System). */
+    virtual void initialize(const OpenMM::System& system, const StickyDipoleForce& force) = 0;
+    /** Add the forces to the context's, and return the energy (kJ/mol) if asked. */
+    virtual double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) = 0;
 };
 
 } // namespace RigidLangevinPlugin

@@ -52,7 +52,7 @@ TEST(KernelRegistration, PlatformsDerivedFromReferenceRunTheReferenceKernels) {
 }
 
 TEST(KernelRegistration, TheCpuPlatformKeepsItsOwnKernel) {
-    // Registering the Reference kernels again, after the CPU plugin (TestMain loads it after them),
+    // Registering the Reference kernels again, after the CPU plugin (as TestMain did),
     // must not take the CPU platform's kernel: with its own random number streams it follows another
     // trajectory than Reference from the same seed, where the Reference kernel would follow the same.
     registerRigidLangevinReferenceKernelFactories();

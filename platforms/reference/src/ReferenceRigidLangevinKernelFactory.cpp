@@ -13,13 +13,17 @@ namespace {
 // several plugins loaded, the dynamic linker could bind such a call to another plugin's.
 void registerFactories() {
     // On every platform derived from ReferencePlatform, as OpenMM's own plugins register theirs,
-    // unless it has the kernel already: the CPU platform derives from ReferencePlatform but has its
-    // own, threaded kernel (platforms/cpu), which it keeps whichever plugin loads first (the CPU
-    // plugin registers on the CPU platform unconditionally).
+    // each kernel the platform does not have already: the CPU platform derives from
+    // ReferencePlatform but has its own, threaded integrator (platforms/cpu), which it keeps
+    // whichever plugin loads first (the CPU plugin registers on the CPU platform unconditionally);
+    // StickyDipoleForce runs there on this kernel.
     for (int i = 0; i < Platform::getNumPlatforms(); i++) {
         Platform& platform = Platform::getPlatform(i);
-        if (dynamic_cast<ReferencePlatform*>(&platform) != NULL && !platform.supportsKernels({IntegrateRigidLangevinStepKernel::Name()}))
-            platform.registerKernelFactory(IntegrateRigidLangevinStepKernel::Name(), new ReferenceRigidLangevinKernelFactory());
+        if (dynamic_cast<ReferencePlatform*>(&platform) == NULL)
+            continue;
+        for (const std::string& kernel : {IntegrateRigidLangevinStepKernel::Name(), CalcStickyDipoleForceKernel::Name()})
+            if (!platform.supportsKernels({kernel}))
+                platform.registerKernelFactory(kernel, new ReferenceRigidLangevinKernelFactory());
     }
 }
 
@@ -40,5 +44,7 @@ KernelImpl* ReferenceRigidLangevinKernelFactory::createKernelImpl(std::string na
     ReferencePlatform::PlatformData& data = *static_cast<ReferencePlatform::PlatformData*>(context.getPlatformData());
     if (name == IntegrateRigidLangevinStepKernel::Name())
         return new ReferenceIntegrateRigidLangevinStepKernel(name, platform, data);
+    if (name == CalcStickyDipoleForceKernel::Name())
+        return new ReferenceCalcStickyDipoleForceKernel(name, platform, data);
     throw OpenMMException((std::string("Tried to create kernel with illegal kernel name '")+name+"'").c_str());
 }

@@ -1,0 +1,3 @@
+// tests/TestStickyDipoleForce.h on the CPU platform.
+#include "CpuTests.h"
+#include "TestStickyDipoleForce.h"

@@ -1,0 +1,3 @@
+// tests/TestStickyDipoleForce.h on the Reference platform.
+#include "ReferenceTests.h"
+#include "TestStickyDipoleForce.h"

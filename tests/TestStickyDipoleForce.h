@@ -1,0 +1,364 @@
+/*
+ * StickyDipoleForce: the energy against a direct sum written here from the published form (body
+ * frames built another way, the sticky terms from polar angles), for every SSD-family model, with
+ * and without a periodic cutoff, switching and reaction field; forces on every particle (sites and
+ * reference particles) against a five-point finite difference of the energy; torques on rigid
+ * molecules against the energy's derivative under rotation; invariance under a rigid rotation of
+ * the whole system; clear errors for bad sites.
+ */
+#include "RigidBodyTestUtilities.h"
+#include "StickyDipoleForce.h"
+#include "openmm/OpenMMException.h"
+#include "openmm/VerletIntegrator.h"
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+#include <functional>
+#include <random>
+
+using namespace OpenMM;
+using namespace RigidLangevinPlugin;
+using namespace RigidBodyTest;
+
+namespace {
+
+/** Waters as three particles: the site (at the oxygen) and two hydrogens (O-H 0.09572 nm, 104.52 degrees). */
+struct WaterBox {
+    System system;
+    StickyDipoleForce* force;
+    std::vector<Vec3> positions;
+    Vec3 box;
+};
+
+WaterBox makeWaters(const std::string& model, int perSide, double spacing, unsigned seed) {
+    WaterBox w;
+    w.force = new StickyDipoleForce();
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<double> uniform(-1, 1);
+    double side = perSide*spacing;
+    w.box = Vec3(side, side, side);
+    w.system.setDefaultPeriodicBoxVectors(Vec3(side, 0, 0), Vec3(0, side, 0), Vec3(0, 0, side));
+    double angle = 104.52*M_PI/180, oh = 0.09572;
+    Eigen::Vector3d h1(0, oh*std::sin(angle/2), oh*std::cos(angle/2)), h2(0, -h1[1], h1[2]);
+    StickyDipoleForce::SiteParameters parameters = StickyDipoleForce::getModelParameters(model);
+    for (int i = 0; i < perSide; i++)
+        for (int j = 0; j < perSide; j++)
+            for (int k = 0; k < perSide; k++) {
+                Eigen::Vector3d center = Eigen::Vector3d(i+0.5, j+0.5, k+0.5)*spacing+Eigen::Vector3d(uniform(random), uniform(random), uniform(random))*0.03*spacing;
+                Eigen::Matrix3d rotation = Eigen::Quaterniond(Eigen::Vector4d(uniform(random), uniform(random), uniform(random), uniform(random)).normalized()).toRotationMatrix();
+                int site = w.system.addParticle(15.9994);
+                w.system.addParticle(1.008);
+                w.system.addParticle(1.008);
+                w.positions.push_back(toVec3(center));
+                w.positions.push_back(toVec3(center+rotation*h1));
+                w.positions.push_back(toVec3(center+rotation*h2));
+                w.force->addSite(site, site+1, site+2, parameters);
+            }
+    w.system.addForce(w.force);
+    return w;
+}
+
+/** The axes of a water's body frame: z along the bisector towards the hydrogens, x normal to the plane. */
+void waterFrame(const Vec3& o, const Vec3& h1, const Vec3& h2, Vec3& x, Vec3& y, Vec3& z) {
+    z = (h1-o)+(h2-o);
+    z /= std::sqrt(z.dot(z));
+    x = (h1-o).cross(h2-o);
+    x /= std::sqrt(x.dot(x));
+    y = z.cross(x);
+}
+
+double cubic(double r, double lower, double upper) {
+    if (r < lower)
+        return 1;
+    if (r >= upper)
+        return 0;
+    return (upper-r)*(upper-r)*(upper+2*r-3*lower)/std::pow(upper-lower, 3);
+}
+
+/** One molecule's half of the sticky energy, from the polar angles of the other molecule in its frame. */
+double stickyHalf(const StickyDipoleForce::SiteParameters& p, const Vec3& x, const Vec3& y, const Vec3& z, const Vec3& toOther) {
+    double r = std::sqrt(toOther.dot(toOther));
+    double theta = std::acos(z.dot(toOther)/r), phi = std::atan2(y.dot(toOther), x.dot(toOther));
+    double w = std::sin(theta)*std::sin(2*theta)*std::cos(2*phi);
+    double wPrime = std::pow(std::cos(theta)-0.6, 2)*std::pow(std::cos(theta)+0.8, 2)-p.w0;
+    return 0.5*(p.nu0*cubic(r, p.rL, p.rU)*w+p.nu0Prime*cubic(r, p.rLPrime, p.rUPrime)*wPrime);
+}
+
+/**
+ * The energy of the force, summed here over all pairs from the published form; also the sticky
+ * part of it and the number of pairs in the switching region, to show that the case tests them.
+ */
+double directSum(const WaterBox& w, const std::vector<Vec3>& positions, double& stickyEnergy, int& switchedPairs) {
+    const StickyDipoleForce& f = *w.force;
+    // 1/(4 pi eps0) in kJ nm/(mol e^2), from CODATA 2018: e^2 N_A/(4 pi eps0), J m/mol -> kJ nm/mol.
+    const double k = 1.602176634e-19*1.602176634e-19*6.02214076e23/(4*M_PI*8.8541878128e-12)*1e-3*1e9;
+    bool cutoff = f.getNonbondedMethod() != StickyDipoleForce::NoCutoff, periodic = f.usesPeriodicBoundaryConditions();
+    double rc = f.getCutoffDistance();
+    double kappa = cutoff ? (f.getReactionFieldDielectric()-1)/((2*f.getReactionFieldDielectric()+1)*rc*rc*rc) : 0;
+    std::set<std::pair<int, int> > excluded;
+    for (int e = 0; e < f.getNumExclusions(); e++) {
+        int a, b;
+        f.getExclusionSites(e, a, b);
+        excluded.insert(std::make_pair(std::min(a, b), std::max(a, b)));
+    }
+    double energy = 0;
+    stickyEnergy = 0;
+    switchedPairs = 0;
+    for (int i = 0; i < f.getNumSites(); i++) {
+        int pi, ai, bi;
+        StickyDipoleForce::SiteParameters qi;
+        f.getSiteParameters(i, pi, ai, bi, qi);
+        if (cutoff)
+            energy -= k*kappa*qi.dipole*qi.dipole;
+        for (int j = i+1; j < f.getNumSites(); j++) {
+            if (excluded.count(std::make_pair(i, j)))
+                continue;
+            int pj, aj, bj;
+            StickyDipoleForce::SiteParameters qj;
+            f.getSiteParameters(j, pj, aj, bj, qj);
+            Vec3 d = positions[pj]-positions[pi];
+            if (periodic)
+                for (int c = 0; c < 3; c++)
+                    d[c] -= w.box[c]*std::round(d[c]/w.box[c]);
+            double r = std::sqrt(d.dot(d));
+            if (cutoff && r >= rc)
+                continue;
+            Vec3 xi, yi, zi, xj, yj, zj;
+            waterFrame(positions[pi], positions[ai], positions[bi], xi, yi, zi);
+            waterFrame(positions[pj], positions[aj], positions[bj], xj, yj, zj);
+            double sigma = 0.5*(qi.sigma+qj.sigma), epsilon = std::sqrt(qi.epsilon*qj.epsilon);
+            double lj = 4*epsilon*(std::pow(sigma/r, 12)-std::pow(sigma/r, 6));
+            Vec3 mi = zi*qi.dipole, mj = zj*qj.dipole, n = d/r;
+            double dipole = k*((mi.dot(mj)-3*mi.dot(n)*mj.dot(n))/(r*r*r)-2*kappa*mi.dot(mj));
+            double s = (cutoff && f.getUseSwitchingFunction()) ? cubic(r, f.getSwitchingDistance(), rc) : 1.0;
+            double sticky = stickyHalf(qi, xi, yi, zi, d)+stickyHalf(qj, xj, yj, zj, -d);
+            energy += s*(lj+dipole)+sticky;
+            stickyEnergy += sticky;
+            switchedPairs += (s < 1);
+        }
+    }
+    return energy;
+}
+
+void usePeriodicCutoff(WaterBox& w) {
+    w.force->setNonbondedMethod(StickyDipoleForce::CutoffPeriodic);
+    w.force->setCutoffDistance(0.55);
+    w.force->setUseSwitchingFunction(true);
+    w.force->setSwitchingDistance(0.45);
+}
+
+double energyOf(Context& context, const std::vector<Vec3>& positions) {
+    context.setPositions(positions);
+    return context.getState(State::Energy).getPotentialEnergy();
+}
+
+/** dU/ds at s = 0 by the five-point stencil (error of order h^4), positionsAt(s) the displaced configuration. */
+double energyDerivative(Context& context, const std::function<std::vector<Vec3>(double)>& positionsAt) {
+    const double h = 1e-4;
+    double e[4];
+    const double steps[4] = {-2, -1, 1, 2};
+    for (int s = 0; s < 4; s++)
+        e[s] = energyOf(context, positionsAt(steps[s]*h));
+    return (e[0]-8*e[1]+8*e[2]-e[3])/(12*h);
+}
+
+} // namespace
+
+class StickyDipoleForceTest : public testing::TestWithParam<PlatformConfig> {
+};
+
+TEST_P(StickyDipoleForceTest, EnergyIsTheDirectSumForEveryModel) {
+    for (const std::string model : {"SSD", "SSD1", "SSD/E", "SSD/RF"})
+        for (bool withCutoff : {false, true}) {
+            SCOPED_TRACE(model+(withCutoff ? ", periodic cutoff with switching and reaction field" : ", no cutoff"));
+            WaterBox w = makeWaters(model, 4, 0.3, 11);
+            w.force->addExclusion(0, 1);
+            w.force->addExclusion(5, 2);
+            if (withCutoff)
+                usePeriodicCutoff(w);
+            VerletIntegrator integrator(0.001);
+            std::unique_ptr<Context> context(createContext(w.system, integrator, GetParam()));
+            double sticky;
+            int switched;
+            double expected = directSum(w, w.positions, sticky, switched), energy = energyOf(*context, w.positions);
+            std::cout << model << (withCutoff ? " cutoff" : " no cutoff") << ": " << energy << " kJ/mol for 64 waters, sticky part "
+                      << sticky << ", " << switched << " pairs switched" << std::endl;
+            EXPECT_NEAR(expected, energy, 1e-10*std::abs(expected));
+            // The configuration exercises every term: pairs within the sticky range, and (with a
+            // cutoff) pairs in the switching region.
+            EXPECT_GT(std::abs(sticky), 10.0);
+            if (withCutoff)
+                EXPECT_GT(switched, 100);
+        }
+}
+
+TEST_P(StickyDipoleForceTest, ForcesAreTheGradientOfTheEnergy) {
+    for (bool withCutoff : {false, true}) {
+        SCOPED_TRACE(withCutoff ? "periodic cutoff" : "no cutoff");
+        WaterBox w = makeWaters("SSD/RF", 3, 0.3, 5);
+        if (withCutoff) {
+            usePeriodicCutoff(w);
+            w.force->setCutoffDistance(0.44);
+            w.force->setSwitchingDistance(0.36);
+        }
+        VerletIntegrator integrator(0.001);
+        std::unique_ptr<Context> context(createContext(w.system, integrator, GetParam()));
+        context->setPositions(w.positions);
+        std::vector<Vec3> forces = context->getState(State::Forces).getForces();
+        double largest = 0;
+        for (const Vec3& f : forces)
+            largest = std::max(largest, std::sqrt(f.dot(f)));
+        double worst = 0;
+        for (int p = 0; p < (int) w.positions.size(); p++)
+            for (int c = 0; c < 3; c++) {
+                double derivative = energyDerivative(*context, [&](double s) {
+                    std::vector<Vec3> moved = w.positions;
+                    moved[p][c] += s;
+                    return moved;
+                });
+                worst = std::max(worst, std::abs(-derivative-forces[p][c]));
+            }
+        std::cout << "largest force " << largest << " kJ/mol/nm, largest difference from -dU/dx " << worst << std::endl;
+        EXPECT_LT(worst, 1e-6*largest);
+    }
+}
+
+TEST_P(StickyDipoleForceTest, TorquesAreTheDerivativeUnderRotation) {
+    WaterBox w = makeWaters("SSD", 3, 0.3, 9);
+    VerletIntegrator integrator(0.001);
+    std::unique_ptr<Context> context(createContext(w.system, integrator, GetParam()));
+    context->setPositions(w.positions);
+    std::vector<Vec3> forces = context->getState(State::Forces).getForces();
+    double worst = 0, largest = 0;
+    for (int molecule = 0; molecule < 27; molecule += 4) {
+        int o = 3*molecule;
+        Vec3 torque;
+        for (int p = o; p < o+3; p++)
+            torque += (w.positions[p]-w.positions[o]).cross(forces[p]);
+        for (int axis = 0; axis < 3; axis++) {
+            // dU/dalpha for a rotation of the molecule about the axis through its site: -torque[axis].
+            double derivative = energyDerivative(*context, [&](double angle) {
+                Eigen::Matrix3d rotation = Eigen::AngleAxisd(angle, Eigen::Vector3d::Unit(axis)).toRotationMatrix();
+                std::vector<Vec3> moved = w.positions;
+                for (int p = o+1; p < o+3; p++)
+                    moved[p] = w.positions[o]+toVec3(rotation*toEigen(w.positions[p]-w.positions[o]));
+                return moved;
+            });
+            worst = std::max(worst, std::abs(-derivative-torque[axis]));
+            largest = std::max(largest, std::abs(torque[axis]));
+        }
+    }
+    std::cout << "largest torque " << largest << " kJ/mol, largest difference from -dU/dalpha " << worst << std::endl;
+    EXPECT_GT(largest, 1.0);
+    EXPECT_LT(worst, 1e-6*largest);
+}
+
+TEST_P(StickyDipoleForceTest, RotatingTheWholeSystemChangesNothing) {
+    WaterBox w = makeWaters("SSD/E", 3, 0.3, 3);
+    VerletIntegrator integrator(0.001);
+    std::unique_ptr<Context> context(createContext(w.system, integrator, GetParam()));
+    context->setPositions(w.positions);
+    State before = context->getState(State::Energy | State::Forces);
+    Eigen::Matrix3d rotation = Eigen::AngleAxisd(1.1, Eigen::Vector3d(0.3, -0.5, 0.8).normalized()).toRotationMatrix();
+    std::vector<Vec3> rotated;
+    for (const Vec3& p : w.positions)
+        rotated.push_back(toVec3(rotation*toEigen(p)));
+    context->setPositions(rotated);
+    State after = context->getState(State::Energy | State::Forces);
+    EXPECT_NEAR(before.getPotentialEnergy(), after.getPotentialEnergy(), 1e-10*std::abs(before.getPotentialEnergy()));
+    double worst = 0, largest = 0;
+    for (int p = 0; p < (int) rotated.size(); p++) {
+        Vec3 expected = toVec3(rotation*toEigen(before.getForces()[p]));
+        Vec3 difference = after.getForces()[p]-expected;
+        worst = std::max(worst, std::sqrt(difference.dot(difference)));
+        largest = std::max(largest, std::sqrt(expected.dot(expected)));
+    }
+    EXPECT_LT(worst, 1e-10*largest);
+}
+
+TEST_P(StickyDipoleForceTest, BadSitesAreClearErrors) {
+    const PlatformConfig& config = GetParam();
+    auto expectError = [&](WaterBox& w, const std::vector<std::string>& fragments) {
+        VerletIntegrator integrator(0.001);
+        try {
+            Context context(w.system, integrator, config.get(), config.properties());
+            ADD_FAILURE() << "expected an OpenMMException mentioning '" << fragments[0] << "'";
+        }
+        catch (const OpenMMException& e) {
+            for (const std::string& fragment : fragments)
+                EXPECT_NE(std::string::npos, std::string(e.what()).find(fragment)) << e.what();
+        }
+    };
+    StickyDipoleForce::SiteParameters p = StickyDipoleForce::getModelParameters("SSD");
+    {
+        WaterBox w = makeWaters("SSD", 2, 0.3, 1);
+        w.force->setSiteParameters(3, 9, 9, 11, p);
+        expectError(w, {"site 3", "three different particles"});
+    }
+    {
+        WaterBox w = makeWaters("SSD", 2, 0.3, 1);
+        w.force->setSiteParameters(2, 6, 7, 99, p);
+        expectError(w, {"site 2", "particle 99"});
+    }
+    {
+        WaterBox w = makeWaters("SSD", 2, 0.3, 1);
+        usePeriodicCutoff(w);
+        expectError(w, {"cutoff", "half the periodic box"});
+    }
+    {
+        WaterBox w = makeWaters("SSD", 2, 0.3, 1);
+        StickyDipoleForce::SiteParameters bad = p;
+        bad.rU = bad.rL;
+        w.force->setSiteParameters(1, 3, 4, 5, bad);
+        expectError(w, {"site 1", "rL < rU"});
+    }
+    EXPECT_THROW(StickyDipoleForce::getModelParameters("TIP3P"), OpenMMException);
+}
+
+TEST_P(StickyDipoleForceTest, RigidWatersConserveEnergyWithoutFriction) {
+    // 27 SSD/RF waters as this plugin's bodies, periodic cutoff with switching and reaction field,
+    // no friction: the energy error of a second order integrator falls fourfold with each halving
+    // of the step, and does not drift beyond its fluctuation.
+    double deviation[2], drift[2];
+    const double steps[2] = {0.001, 0.0005};
+    for (int k = 0; k < 2; k++) {
+        WaterBox w = makeWaters("SSD/RF", 3, 0.31, 2);
+        usePeriodicCutoff(w);
+        w.force->setCutoffDistance(0.45);
+        w.force->setSwitchingDistance(0.38);
+        RigidLangevinIntegrator integrator(300, 0, steps[k]);
+        for (int m = 0; m < 27; m++) {
+            integrator.addRigidBody({3*m, 3*m+1, 3*m+2});
+            for (int p = 3*m; p < 3*m+3; p++)
+                integrator.setParticleRadius(p, 0.15);
+        }
+        std::unique_ptr<Context> context(createContext(w.system, integrator, GetParam()));
+        context->setPositions(w.positions);
+        context->setVelocitiesToTemperature(300, 7);
+        // 2 ps, sampled every 10 fs.
+        int every = (int) std::round(0.01/steps[k]), samples = 200;
+        std::vector<double> energy;
+        for (int i = 0; i < samples; i++) {
+            integrator.step(every);
+            State state = context->getState(State::Energy);
+            energy.push_back(state.getKineticEnergy()+state.getPotentialEnergy());
+        }
+        double mean = 0, square = 0, slope = 0, times = 0;
+        for (double e : energy)
+            mean += e/samples;
+        for (int i = 0; i < samples; i++) {
+            double t = (i-0.5*(samples-1))*0.01;
+            square += (energy[i]-mean)*(energy[i]-mean)/samples;
+            slope += t*(energy[i]-mean);
+            times += t*t;
+        }
+        deviation[k] = std::sqrt(square);
+        drift[k] = slope/times;  // kJ/mol per ps
+        std::cout << "step " << steps[k]*1000 << " fs: energy deviation " << deviation[k] << " kJ/mol, drift "
+                  << drift[k]*1000/27 << " kJ/mol/ns per molecule" << std::endl;
+        // No drift beyond the fluctuation over the run.
+        EXPECT_LT(std::abs(drift[k])*2.0, deviation[k]);
+    }
+    EXPECT_NEAR(4.0, deviation[0]/deviation[1], 0.6);
+}
+
+INSTANTIATE_TEST_SUITE_P(OnPlatform, StickyDipoleForceTest, testing::ValuesIn(platformConfigs()), PlatformConfigName());
