@@ -43,6 +43,7 @@ using OpenMM::isNumpyAvailable;
 %{
 #include "RigidLangevinIntegrator.h"
 #include "ResistanceTensor.h"
+#include "StickyDipoleForce.h"
 #include "OpenMM.h"
 #include "OpenMMAmoeba.h"
 #include "OpenMMDrude.h"
@@ -209,6 +210,135 @@ public:
 
             def __setstate__(self, state):
                 self.this = RigidLangevinIntegrator._deserialize(state).this
+        %}
+    }
+};
+
+/*
+ * StickyDipoleForce. A site's parameters are keyword arguments in Python (Quantities or MD units:
+ * nm, kJ/mol, e*nm), starting from a named model's (getModelParameters) where one is given.
+ */
+%newobject StickyDipoleForce::_clone;
+%pythonappend StickyDipoleForce::getCutoffDistance %{
+    val = unit.Quantity(val, unit.nanometer)
+%}
+%pythonappend StickyDipoleForce::getSwitchingDistance %{
+    val = unit.Quantity(val, unit.nanometer)
+%}
+
+%header %{
+/* A site's parameters from the 10 values Python passes, in the order of StickyDipoleForce.PARAMETER_NAMES. */
+RigidLangevinPlugin::StickyDipoleForce::SiteParameters stickyDipoleSiteParameters(const std::vector<double>& v) {
+    if (v.size() != 10)
+        throw OpenMM::OpenMMException("StickyDipoleForce: a site has 10 parameters");
+    RigidLangevinPlugin::StickyDipoleForce::SiteParameters p;
+    p.sigma = v[0];
+    p.epsilon = v[1];
+    p.dipole = v[2];
+    p.nu0 = v[3];
+    p.rL = v[4];
+    p.rU = v[5];
+    p.nu0Prime = v[6];
+    p.rLPrime = v[7];
+    p.rUPrime = v[8];
+    p.w0 = v[9];
+    return p;
+}
+%}
+
+class StickyDipoleForce : public OpenMM::Force {
+public:
+    enum NonbondedMethod {
+        NoCutoff = 0,
+        CutoffNonPeriodic = 1,
+        CutoffPeriodic = 2
+    };
+    StickyDipoleForce();
+    int getNumSites() const;
+    int addExclusion(int site1, int site2);
+    int getNumExclusions() const;
+    void getExclusionSites(int index, int& OUTPUT, int& OUTPUT) const;
+    NonbondedMethod getNonbondedMethod() const;
+    void setNonbondedMethod(NonbondedMethod method);
+    double getCutoffDistance() const;
+    void setCutoffDistance(double distance);
+    bool getUseSwitchingFunction() const;
+    void setUseSwitchingFunction(bool use);
+    double getSwitchingDistance() const;
+    void setSwitchingDistance(double distance);
+    double getReactionFieldDielectric() const;
+    void setReactionFieldDielectric(double dielectric);
+    bool usesPeriodicBoundaryConditions() const;
+
+    %extend {
+        static std::vector<double> _modelParameters(const std::string& model) {
+            RigidLangevinPlugin::StickyDipoleForce::SiteParameters p = RigidLangevinPlugin::StickyDipoleForce::getModelParameters(model);
+            return {p.sigma, p.epsilon, p.dipole, p.nu0, p.rL, p.rU, p.nu0Prime, p.rLPrime, p.rUPrime, p.w0};
+        }
+        int _addSite(int particle, int reference1, int reference2, const std::vector<double>& values) {
+            return self->addSite(particle, reference1, reference2, stickyDipoleSiteParameters(values));
+        }
+        void _setSite(int index, int particle, int reference1, int reference2, const std::vector<double>& values) {
+            self->setSiteParameters(index, particle, reference1, reference2, stickyDipoleSiteParameters(values));
+        }
+        std::vector<double> _getSite(int index) const {
+            int particle, reference1, reference2;
+            RigidLangevinPlugin::StickyDipoleForce::SiteParameters p;
+            self->getSiteParameters(index, particle, reference1, reference2, p);
+            return {(double) particle, (double) reference1, (double) reference2, p.sigma, p.epsilon, p.dipole, p.nu0, p.rL, p.rU,
+                    p.nu0Prime, p.rLPrime, p.rUPrime, p.w0};
+        }
+        RigidLangevinPlugin::StickyDipoleForce* _clone() const {
+            return dynamic_cast<RigidLangevinPlugin::StickyDipoleForce*>(OpenMM::XmlSerializer::clone<OpenMM::Force>(*self));
+        }
+        static RigidLangevinPlugin::StickyDipoleForce& _cast(OpenMM::Force& force) {
+            RigidLangevinPlugin::StickyDipoleForce* result = dynamic_cast<RigidLangevinPlugin::StickyDipoleForce*>(&force);
+            if (result == NULL)
+                throw OpenMM::OpenMMException("StickyDipoleForce.cast: this Force is not a StickyDipoleForce");
+            return *result;
+        }
+        static bool isinstance(OpenMM::Force& force) {
+            return dynamic_cast<RigidLangevinPlugin::StickyDipoleForce*>(&force) != NULL;
+        }
+        %pythoncode %{
+            PARAMETER_NAMES = ('sigma', 'epsilon', 'dipole', 'nu0', 'rL', 'rU', 'nu0Prime', 'rLPrime', 'rUPrime', 'w0')
+
+            @staticmethod
+            def getModelParameters(model):
+                """The site parameters of a named model ('SSD', 'SSD1', 'SSD/E' or 'SSD/RF') as a dict of Quantities."""
+                return _units.sticky_dipole_quantities(StickyDipoleForce._modelParameters(model))
+
+            def addSite(self, particle, reference1, reference2, model=None, **parameters):
+                """Add a site on a particle, framed by two reference particles of its molecule (z towards their
+                midpoint, y along reference1 - reference2). Its parameters are a named model's, if given, with any
+                of sigma, epsilon, dipole, nu0, rL, rU, nu0Prime, rLPrime, rUPrime, w0 given as keywords replacing
+                them. Returns the index of the site."""
+                return self._addSite(particle, reference1, reference2, _units.sticky_dipole_values(model, parameters))
+
+            def setSiteParameters(self, index, particle, reference1, reference2, model=None, **parameters):
+                """Replace a site (see addSite)."""
+                self._setSite(index, particle, reference1, reference2, _units.sticky_dipole_values(model, parameters))
+
+            def getSiteParameters(self, index):
+                """(particle, reference1, reference2, dict of the site's parameters as Quantities)."""
+                values = self._getSite(index)
+                return int(values[0]), int(values[1]), int(values[2]), _units.sticky_dipole_quantities(values[3:])
+
+            @staticmethod
+            def cast(force):
+                """An openmm.Force that is a StickyDipoleForce (from XmlSerializer.deserialize() or System.getForce())
+                as one. The result keeps the original object alive."""
+                if isinstance(force, StickyDipoleForce):
+                    return force
+                result = StickyDipoleForce._cast(force)
+                result._source = force
+                return result
+
+            def __copy__(self):
+                return self._clone()
+
+            def __deepcopy__(self, memo):
+                return self._clone()
         %}
     }
 };

@@ -4,16 +4,19 @@
  * and without a periodic cutoff, switching and reaction field; forces on every particle (sites and
  * reference particles) against a five-point finite difference of the energy; torques on rigid
  * molecules against the energy's derivative under rotation; invariance under a rigid rotation of
- * the whole system; clear errors for bad sites.
+ * the whole system; energy conservation of rigid waters; XmlSerializer round trips; clear errors
+ * for bad sites.
  */
 #include "RigidBodyTestUtilities.h"
 #include "StickyDipoleForce.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/VerletIntegrator.h"
+#include "openmm/serialization/XmlSerializer.h"
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 #include <functional>
 #include <random>
+#include <sstream>
 
 using namespace OpenMM;
 using namespace RigidLangevinPlugin;
@@ -359,6 +362,53 @@ TEST_P(StickyDipoleForceTest, RigidWatersConserveEnergyWithoutFriction) {
         EXPECT_LT(std::abs(drift[k])*2.0, deviation[k]);
     }
     EXPECT_NEAR(4.0, deviation[0]/deviation[1], 0.6);
+}
+
+TEST_P(StickyDipoleForceTest, XmlRoundTripKeepsEverything) {
+    WaterBox w = makeWaters("SSD/E", 3, 0.3, 4);
+    usePeriodicCutoff(w);
+    w.force->setCutoffDistance(0.44);
+    w.force->setSwitchingDistance(0.37);
+    w.force->setReactionFieldDielectric(78.5);
+    w.force->addExclusion(3, 4);
+    w.force->setForceGroup(3);
+    w.force->setName("ssd");
+    StickyDipoleForce::SiteParameters odd = StickyDipoleForce::getModelParameters("SSD");
+    odd.w0 = 0.05;
+    w.force->setSiteParameters(7, 21, 23, 22, odd);
+    std::stringstream buffer;
+    XmlSerializer::serialize<System>(&w.system, "System", buffer);
+    std::unique_ptr<System> copy(XmlSerializer::deserialize<System>(buffer));
+    const StickyDipoleForce& read = dynamic_cast<const StickyDipoleForce&>(copy->getForce(0));
+    EXPECT_EQ(w.force->getNonbondedMethod(), read.getNonbondedMethod());
+    EXPECT_EQ(w.force->getCutoffDistance(), read.getCutoffDistance());
+    EXPECT_EQ(w.force->getUseSwitchingFunction(), read.getUseSwitchingFunction());
+    EXPECT_EQ(w.force->getSwitchingDistance(), read.getSwitchingDistance());
+    EXPECT_EQ(w.force->getReactionFieldDielectric(), read.getReactionFieldDielectric());
+    EXPECT_EQ(3, read.getForceGroup());
+    EXPECT_EQ("ssd", read.getName());
+    ASSERT_EQ(w.force->getNumSites(), read.getNumSites());
+    ASSERT_EQ(w.force->getNumExclusions(), read.getNumExclusions());
+    for (int i = 0; i < read.getNumSites(); i++) {
+        int a[3], b[3];
+        StickyDipoleForce::SiteParameters p, q;
+        w.force->getSiteParameters(i, a[0], a[1], a[2], p);
+        read.getSiteParameters(i, b[0], b[1], b[2], q);
+        for (int k = 0; k < 3; k++)
+            EXPECT_EQ(a[k], b[k]);
+        const double pv[] = {p.sigma, p.epsilon, p.dipole, p.nu0, p.rL, p.rU, p.nu0Prime, p.rLPrime, p.rUPrime, p.w0};
+        const double qv[] = {q.sigma, q.epsilon, q.dipole, q.nu0, q.rL, q.rU, q.nu0Prime, q.rLPrime, q.rUPrime, q.w0};
+        for (int k = 0; k < 10; k++)
+            EXPECT_EQ(pv[k], qv[k]) << "site " << i << ", parameter " << k;
+    }
+    int s1, s2;
+    read.getExclusionSites(0, s1, s2);
+    EXPECT_EQ(3, s1);
+    EXPECT_EQ(4, s2);
+    // The same energy from the copy (forces in group 3 only).
+    VerletIntegrator i1(0.001), i2(0.001);
+    std::unique_ptr<Context> original(createContext(w.system, i1, GetParam())), restored(createContext(*copy, i2, GetParam()));
+    EXPECT_EQ(energyOf(*original, w.positions), energyOf(*restored, w.positions));
 }
 
 INSTANTIATE_TEST_SUITE_P(OnPlatform, StickyDipoleForceTest, testing::ValuesIn(platformConfigs()), PlatformConfigName());

@@ -48,10 +48,25 @@ def available_platforms():
     return [n for n in names if n in IMPLEMENTED]
 
 
+def _choice(name):
+    properties = {'Precision': 'double'} if name in GPU_PLATFORMS else {}
+    return PlatformChoice(name, mm.Platform.getPlatformByName(name), properties)
+
+
 @pytest.fixture(params=available_platforms())
 def platform(request):
     """Parametrizes a test over every available platform: a PlatformChoice (use .context(system,
     integrator) to create a Context). GPU platforms run in double precision."""
-    name = request.param
-    properties = {'Precision': 'double'} if name in GPU_PLATFORMS else {}
-    return PlatformChoice(name, mm.Platform.getPlatformByName(name), properties)
+    return _choice(request.param)
+
+
+#: The platforms with a kernel for StickyDipoleForce: Reference and CPU (which runs the Reference
+#: kernel); the OpenCL and CUDA kernels are not written yet.
+STICKY_DIPOLE_PLATFORMS = ('Reference', 'CPU')
+
+
+@pytest.fixture(params=[n for n in available_platforms() if n in STICKY_DIPOLE_PLATFORMS])
+def sticky_dipole_platform(request):
+    """Like `platform`, over the platforms that have StickyDipoleForce's kernel. The list is fixed
+    here rather than read from the platforms, so a platform losing the kernel fails a test."""
+    return _choice(request.param)

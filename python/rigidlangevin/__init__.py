@@ -2,7 +2,7 @@
 
 The integrator, RigidLangevinIntegrator, moves rigid bodies (and free particles) with friction and
 noise from a full 6x6 hydrodynamic resistance tensor per body; ResistanceTensor builds and queries
-such tensors. Viscosities may be given with the units exported here (poise, centipoise) or any
+such tensors; StickyDipoleForce is the soft sticky dipole family of single-site water models. Viscosities may be given with the units exported here (poise, centipoise) or any
 openmm.unit viscosity.
 """
 import openmm  # loads OpenMM and its plugins (this one's kernels among them) before our module
@@ -16,11 +16,12 @@ if _BUILT_AGAINST and openmm.version.short_version.split('.')[:2] != _BUILT_AGAI
                       f'{openmm.version.short_version}: reinstall it (pip install --force-reinstall --no-cache-dir openmm-rigid-langevin, '
                       f'or rebuild from the source) against this OpenMM')
 
-from .core import RigidLangevinIntegrator, ResistanceTensor
+from .core import RigidLangevinIntegrator, ResistanceTensor, StickyDipoleForce
 from ._units import poise, centipoise, md_viscosity
 from .topology import addRigidBodies
 from .reporters import RigidBodyTemperatureReporter
 from . import hydrodynamics
+from . import ssd
 
-__all__ = ['RigidLangevinIntegrator', 'ResistanceTensor', 'poise', 'centipoise', 'md_viscosity', 'addRigidBodies',
-           'RigidBodyTemperatureReporter', 'hydrodynamics']
+__all__ = ['RigidLangevinIntegrator', 'ResistanceTensor', 'StickyDipoleForce', 'poise', 'centipoise', 'md_viscosity', 'addRigidBodies',
+           'RigidBodyTemperatureReporter', 'hydrodynamics', 'ssd']

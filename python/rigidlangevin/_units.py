@@ -64,3 +64,31 @@ def resistance_result(result):
 def vectors_in_nm(vectors):
     """A list of Vec3 (nm) as a Quantity-wrapped (N, 3) numpy array."""
     return unit.Quantity(np.array([[v[0], v[1], v[2]] for v in vectors], dtype=float).reshape(-1, 3), unit.nanometer)
+
+
+#: StickyDipoleForce's site parameters in the order the wrapper passes them, with their MD units.
+_STICKY_DIPOLE_UNITS = (('sigma', unit.nanometer), ('epsilon', unit.kilojoule_per_mole),
+                        ('dipole', unit.elementary_charge*unit.nanometer), ('nu0', unit.kilojoule_per_mole),
+                        ('rL', unit.nanometer), ('rU', unit.nanometer), ('nu0Prime', unit.kilojoule_per_mole),
+                        ('rLPrime', unit.nanometer), ('rUPrime', unit.nanometer), ('w0', unit.dimensionless))
+
+
+def sticky_dipole_quantities(values):
+    """A StickyDipoleForce site's parameters as a dict of Quantities (w0 a float)."""
+    return {name: (float(v) if u is unit.dimensionless else unit.Quantity(float(v), u))
+            for (name, u), v in zip(_STICKY_DIPOLE_UNITS, values)}
+
+
+def sticky_dipole_values(model, parameters):
+    """The 10 values of a site: a named model's (or zeros), replaced by any given as keywords."""
+    from .core import StickyDipoleForce
+    unknown = set(parameters)-{name for name, _ in _STICKY_DIPOLE_UNITS}
+    if unknown:
+        raise TypeError(f'StickyDipoleForce: unknown site parameters {sorted(unknown)}; '
+                        f'they are {[name for name, _ in _STICKY_DIPOLE_UNITS]}')
+    values = list(StickyDipoleForce._modelParameters(model)) if model is not None else [0.0]*10
+    for i, (name, u) in enumerate(_STICKY_DIPOLE_UNITS):
+        if name in parameters:
+            value = parameters[name]
+            values[i] = float(value.value_in_unit(u) if unit.is_quantity(value) else value)
+    return values

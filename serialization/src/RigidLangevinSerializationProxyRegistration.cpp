@@ -1,5 +1,7 @@
 #include "RigidLangevinIntegrator.h"
 #include "RigidLangevinIntegratorProxy.h"
+#include "StickyDipoleForce.h"
+#include "StickyDipoleForceProxy.h"
 #include "openmm/serialization/SerializationProxy.h"
 #include <typeinfo>
 
@@ -20,4 +22,5 @@ using namespace RigidLangevinPlugin;
 
 extern "C" OPENMM_EXPORT_RIGIDLANGEVIN void registerRigidLangevinSerializationProxies() {
     OpenMM::SerializationProxy::registerProxy(typeid(RigidLangevinIntegrator), new RigidLangevinIntegratorProxy());
+    OpenMM::SerializationProxy::registerProxy(typeid(StickyDipoleForce), new StickyDipoleForceProxy());
 }
