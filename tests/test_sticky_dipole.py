@@ -3,6 +3,7 @@ and the SSD water box builder (geometry, inertia, a short run of rigid bodies). 
 physics is tested in C++ (tests/TestStickyDipoleForce.h) against a direct sum and finite
 differences; here the wrapper must pass the same numbers through."""
 import copy
+import io
 
 import numpy as np
 import openmm as mm
@@ -100,3 +101,40 @@ def test_water_box_runs_as_rigid_bodies(sticky_dipole_platform):
     oh = np.linalg.norm(xyz[1::4]-xyz[0::4], axis=1)
     assert np.allclose(oh, rl.ssd.OH_LENGTH, atol=1e-9)
     assert np.std(energies) < 0.01*np.mean(kinetic), (np.std(energies), np.mean(kinetic))
+
+
+@pytest.mark.parametrize('model', ['SSD', 'SSD1', 'SSD/E', 'SSD/RF'])
+def test_force_field_builds_the_same_system(model):
+    # openmm.app.ForceField with the <StickyDipoleForce> generator gives the System waterBox builds.
+    topology, system, positions = rl.ssd.waterBox(27, model=model, boxSize=0.93*unit.nanometer, cutoff=0.45*unit.nanometer)
+    built = rl.ssd.forceField(model).createSystem(topology, nonbondedMethod=mm.app.CutoffPeriodic,
+                                                  nonbondedCutoff=0.45*unit.nanometer, removeCMMotion=False)
+    assert built.getNumConstraints() == 3*27
+    assert all(built.isVirtualSite(4*i+3) for i in range(27))
+    forces = [f for f in built.getForces() if rl.StickyDipoleForce.isinstance(f)]
+    assert len(forces) == 1
+    force = rl.StickyDipoleForce.cast(forces[0])
+    assert force.getSwitchingDistance().value_in_unit(unit.nanometer) == pytest.approx(0.85*0.45)
+    assert force.getSiteParameters(4) == rl.StickyDipoleForce.cast(system.getForce(0)).getSiteParameters(4)
+    platform = mm.Platform.getPlatformByName('Reference')
+    energies = []
+    for s in (system, built):
+        context = mm.Context(s, mm.VerletIntegrator(0.001), platform)
+        context.setPositions(positions)
+        energies.append(context.getState(getEnergy=True).getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole))
+    assert energies[1] == pytest.approx(energies[0], rel=1e-12)
+    with pytest.raises(ValueError, match='no Ewald sum'):
+        rl.ssd.forceField(model).createSystem(topology, nonbondedMethod=mm.app.PME, nonbondedCutoff=0.45*unit.nanometer)
+
+
+def test_force_field_sites_take_attributes_and_switch_distance():
+    xml = rl.ssd.forceFieldXml('SSD').replace('model="SSD"/>', 'model="SSD" w0="0.05" dipole="0.05"/>')
+    topology, system, positions = rl.ssd.waterBox(8, boxSize=0.62*unit.nanometer, cutoff=0.3*unit.nanometer)
+    built = mm.app.ForceField(io.StringIO(xml)).createSystem(topology, nonbondedMethod=mm.app.CutoffPeriodic,
+                                                              nonbondedCutoff=0.3*unit.nanometer, switchDistance=0.25*unit.nanometer)
+    force = rl.StickyDipoleForce.cast([f for f in built.getForces() if rl.StickyDipoleForce.isinstance(f)][0])
+    assert force.getSwitchingDistance() == 0.25*unit.nanometer
+    parameters = force.getSiteParameters(0)[3]
+    assert parameters['w0'] == 0.05
+    assert parameters['dipole'].value_in_unit(unit.elementary_charge*unit.nanometer) == 0.05
+    assert parameters['sigma'] == rl.StickyDipoleForce.getModelParameters('SSD')['sigma']

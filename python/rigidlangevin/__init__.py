@@ -22,6 +22,7 @@ from .topology import addRigidBodies
 from .reporters import RigidBodyTemperatureReporter
 from . import hydrodynamics
 from . import ssd
+from . import forcefield as _forcefield  # registers <StickyDipoleForce> with openmm.app.ForceField
 
 __all__ = ['RigidLangevinIntegrator', 'ResistanceTensor', 'StickyDipoleForce', 'poise', 'centipoise', 'md_viscosity', 'addRigidBodies',
            'RigidBodyTemperatureReporter', 'hydrodynamics', 'ssd']

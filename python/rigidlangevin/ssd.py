@@ -9,7 +9,12 @@ integrator that honours constraints; RigidLangevinIntegrator moves each molecule
 (addRigidBodies(..., residues='water')). Only M interacts.
 
     topology, system, positions = rigidlangevin.ssd.waterBox(256, model='SSD/RF')
+
+The same molecules come from openmm.app.ForceField with forceField(model) (rigidWater, the
+default, makes the constraints), for any Topology whose waters are residues HOH of atoms O, H1,
+H2 and M (waterBox's topology, for one).
 """
+import io
 import math
 
 import numpy as np
@@ -99,3 +104,44 @@ def waterBox(numWaters=256, model='SSD/RF', boxSize=1.97166*unit.nanometer, cuto
         positions.extend(mm.Vec3(*(center+rotation@atom)) for atom in geometry)
     system.addForce(force)
     return topology, system, unit.Quantity(positions, unit.nanometer)
+
+
+def forceFieldXml(model='SSD/RF', reactionFieldDielectric=80.0, switchingFraction=0.85):
+    """A force field file (as text) for SSD-family water of the named model: atom types, the residue
+    template HOH (O, H1, H2 and the site M, a mass-weighted average of the three), the geometry as
+    harmonic terms that rigidWater turns into constraints, and the <StickyDipoleForce>."""
+    tag = ''.join(c for c in model.lower() if c.isalnum())
+    total = OXYGEN_MASS+2*HYDROGEN_MASS
+    return f"""<ForceField>
+ <AtomTypes>
+  <Type name="{tag}-O" class="{tag}-OW" element="O" mass="{OXYGEN_MASS!r}"/>
+  <Type name="{tag}-H" class="{tag}-HW" element="H" mass="{HYDROGEN_MASS!r}"/>
+  <Type name="{tag}-M" class="{tag}-MW" mass="0"/>
+ </AtomTypes>
+ <Residues>
+  <Residue name="HOH">
+   <Atom name="O" type="{tag}-O"/>
+   <Atom name="H1" type="{tag}-H"/>
+   <Atom name="H2" type="{tag}-H"/>
+   <Atom name="M" type="{tag}-M"/>
+   <VirtualSite type="average3" siteName="M" atomName1="O" atomName2="H1" atomName3="H2" weight1="{OXYGEN_MASS/total!r}" weight2="{HYDROGEN_MASS/total!r}" weight3="{HYDROGEN_MASS/total!r}"/>
+   <Bond atomName1="O" atomName2="H1"/>
+   <Bond atomName1="O" atomName2="H2"/>
+  </Residue>
+ </Residues>
+ <HarmonicBondForce>
+  <Bond type1="{tag}-O" type2="{tag}-H" length="{OH_LENGTH!r}" k="462750.4"/>
+ </HarmonicBondForce>
+ <HarmonicAngleForce>
+  <Angle type1="{tag}-H" type2="{tag}-O" type3="{tag}-H" angle="{HOH_ANGLE!r}" k="836.8"/>
+ </HarmonicAngleForce>
+ <StickyDipoleForce reactionFieldDielectric="{reactionFieldDielectric!r}" switchingFraction="{switchingFraction!r}">
+  <Site type="{tag}-M" reference1="H1" reference2="H2" model="{model}"/>
+ </StickyDipoleForce>
+</ForceField>
+"""
+
+
+def forceField(model='SSD/RF', **options):
+    """An openmm.app.ForceField of SSD-family water (see forceFieldXml for the options)."""
+    return app.ForceField(io.StringIO(forceFieldXml(model, **options)))
