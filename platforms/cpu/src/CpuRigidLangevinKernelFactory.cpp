@@ -15,8 +15,10 @@ void registerFactories() {
     // The CPU platform is a plugin of its own; without it there is nothing to register on.
     for (int i = 0; i < Platform::getNumPlatforms(); i++) {
         Platform& platform = Platform::getPlatform(i);
-        if (platform.getName() == "CPU")
+        if (platform.getName() == "CPU") {
             platform.registerKernelFactory(IntegrateRigidLangevinStepKernel::Name(), new CpuRigidLangevinKernelFactory());
+            platform.registerKernelFactory(CalcStickyDipoleForceKernel::Name(), new CpuRigidLangevinKernelFactory());
+        }
     }
 }
 
@@ -38,5 +40,7 @@ KernelImpl* CpuRigidLangevinKernelFactory::createKernelImpl(std::string name, co
     CpuPlatform::PlatformData& cpuData = CpuPlatform::getPlatformData(context);
     if (name == IntegrateRigidLangevinStepKernel::Name())
         return new CpuIntegrateRigidLangevinStepKernel(name, platform, data, cpuData);
+    if (name == CalcStickyDipoleForceKernel::Name())
+        return new CpuCalcStickyDipoleForceKernel(name, platform, data, cpuData);
     throw OpenMMException((std::string("Tried to create kernel with illegal kernel name '")+name+"'").c_str());
 }

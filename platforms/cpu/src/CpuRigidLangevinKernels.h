@@ -3,6 +3,7 @@
 
 #include "CpuPlatform.h"
 #include "HostRigidLangevinStepKernel.h"
+#include "HostStickyDipoleForceKernel.h"
 #include "ZigguratGaussianRandom.h"
 
 namespace RigidLangevinPlugin {
@@ -36,6 +37,29 @@ protected:
 private:
     OpenMM::ThreadPool& threads;
     int numBodies = 0;
+};
+
+/**
+ * StickyDipoleForce on the CPU platform: the host kernel (HostCalcStickyDipoleForceKernel, double
+ * precision), its pairs shared among the platform's threads. The sums depend on the number of
+ * threads, as those of OpenMM's own CPU forces do.
+ */
+class CpuCalcStickyDipoleForceKernel : public HostCalcStickyDipoleForceKernel {
+public:
+    CpuCalcStickyDipoleForceKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ReferencePlatform::PlatformData& data,
+                                   OpenMM::CpuPlatform::PlatformData& cpuData) :
+            HostCalcStickyDipoleForceKernel(name, platform, data), threads(cpuData.threads) {
+    }
+protected:
+    int getNumThreads() {
+        return threads.getNumThreads();
+    }
+    void runThreads(const std::function<void (int)>& task) {
+        threads.execute([&] (OpenMM::ThreadPool& pool, int thread) {task(thread);});
+        threads.waitForThreads();
+    }
+private:
+    OpenMM::ThreadPool& threads;
 };
 
 } // namespace RigidLangevinPlugin

@@ -15,8 +15,8 @@ void registerFactories() {
     // On every platform derived from ReferencePlatform, as OpenMM's own plugins register theirs,
     // each kernel the platform does not have already: the CPU platform derives from
     // ReferencePlatform but has its own, threaded integrator (platforms/cpu), which it keeps
-    // whichever plugin loads first (the CPU plugin registers on the CPU platform unconditionally);
-    // StickyDipoleForce runs there on this kernel.
+    // whichever plugin loads first (the CPU plugin registers its kernels on the CPU platform
+    // unconditionally).
     for (int i = 0; i < Platform::getNumPlatforms(); i++) {
         Platform& platform = Platform::getPlatform(i);
         if (dynamic_cast<ReferencePlatform*>(&platform) == NULL)

@@ -2,11 +2,8 @@
 #define REFERENCE_RIGID_LANGEVIN_KERNELS_H_
 
 #include "HostRigidLangevinStepKernel.h"
-#include "RigidLangevinKernels.h"
-#include "StickyDipoleForce.h"
+#include "HostStickyDipoleForceKernel.h"
 #include "internal/GaussianRandom.h"
-#include <set>
-#include <vector>
 
 namespace RigidLangevinPlugin {
 
@@ -26,25 +23,12 @@ protected:
     void loadRandomCheckpoint(std::istream& stream);
 };
 
-/**
- * StickyDipoleForce in double precision (StickyDipoleInteraction.h), pairs from OpenMM's voxel
- * neighbour list with a cutoff, all pairs without one.
- */
-class ReferenceCalcStickyDipoleForceKernel : public CalcStickyDipoleForceKernel {
+/** StickyDipoleForce on the host (HostCalcStickyDipoleForceKernel), on the calling thread. */
+class ReferenceCalcStickyDipoleForceKernel : public HostCalcStickyDipoleForceKernel {
 public:
     ReferenceCalcStickyDipoleForceKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ReferencePlatform::PlatformData& data) :
-            CalcStickyDipoleForceKernel(name, platform), data(data) {
+            HostCalcStickyDipoleForceKernel(name, platform, data) {
     }
-    void initialize(const OpenMM::System& system, const StickyDipoleForce& force);
-    double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy);
-private:
-    OpenMM::ReferencePlatform::PlatformData& data;
-    std::vector<int> particles, references1, references2;
-    std::vector<StickyDipoleForce::SiteParameters> parameters;
-    std::vector<std::set<int> > exclusions;
-    StickyDipoleForce::NonbondedMethod method;
-    double cutoff, switchingDistance, kappa;
-    bool useSwitching;
 };
 
 } // namespace RigidLangevinPlugin
