@@ -53,6 +53,25 @@ def time_per_step(integrator, context, steps, repeats=3, min_seconds=0.2, subtra
         steps *= 4
 
 
+def best_times_alternating(contexts, steps, rounds=3):
+    """Time per step (s) of each of several {key: (integrator, context)}, timed in turn over several
+    rounds, so that all see the same machine load; the best of each."""
+    timings = {}
+    for _ in range(rounds):
+        for key, (integrator, context) in contexts.items():
+            t = time_per_step(integrator, context, steps, repeats=1, subtract_sync=False)
+            timings[key] = min(timings.get(key, float('inf')), t)
+    return timings
+
+
+def save_plot(fig, name):
+    """Save a figure as results/<name>.png."""
+    fig.tight_layout()
+    path = f'{RESULTS}/{name}.png'
+    fig.savefig(path, dpi=120)
+    print(f'(plot: {path})')
+
+
 def write_table(name, columns, rows):
     """Write rows (dicts) as results/<name>.csv and print them as an aligned table."""
     os.makedirs(RESULTS, exist_ok=True)

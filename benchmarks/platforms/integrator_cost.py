@@ -14,7 +14,7 @@ import openmm as mm
 import openmm.unit as unit
 
 import rigidlangevin as rl
-from benchmark_utils import platform_status, time_per_step, write_table, RESULTS
+from benchmark_utils import platform_status, time_per_step, write_table, save_plot
 
 WATER = np.array([[0, 0, 0], [0.09572, 0, 0], [-0.02399, 0.09266, 0]])
 MASSES = (15.999, 1.008, 1.008)
@@ -116,10 +116,7 @@ def plot(rows, name):
     for ax in (left, right):
         ax.grid(True, which='both', alpha=0.3)
         ax.legend(fontsize=8)
-    fig.tight_layout()
-    path = f'{RESULTS}/{name}.png'
-    fig.savefig(path, dpi=120)
-    print(f'(plot: {path})')
+    save_plot(fig, name)
 
 
 if __name__ == '__main__':

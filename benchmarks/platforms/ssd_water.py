@@ -16,7 +16,7 @@ import openmm.app as app
 import openmm.unit as unit
 
 import rigidlangevin as rl
-from benchmark_utils import platform_status, time_per_step, write_table, RESULTS
+from benchmark_utils import best_times_alternating, platform_status, save_plot, write_table
 
 STICKY_KERNEL = 'CalcStickyDipoleForce'
 
@@ -66,7 +66,7 @@ def main():
                 rows.append({'box_nm': edge, 'platform': name, 'note': status})
                 continue
             properties = {'Precision': 'mixed'} if name in ('OpenCL', 'CUDA') else {}
-            contexts, timings = {}, {}
+            contexts = {}
             for model, (n, system, positions, make_integrator) in models.items():
                 integrator = make_integrator()
                 context = mm.Context(system, integrator, mm.Platform.getPlatformByName(name), properties)
@@ -74,11 +74,7 @@ def main():
                 context.setVelocitiesToTemperature(300*unit.kelvin, 1)
                 integrator.step(10)
                 contexts[model] = (integrator, context)
-            # Alternate the two models so that both see the same machine load; keep the best of three.
-            for round in range(3):
-                for model, (integrator, context) in contexts.items():
-                    t = time_per_step(integrator, context, args.steps, repeats=1, subtract_sync=False)
-                    timings[model] = min(timings.get(model, float('inf')), t)
+            timings = best_times_alternating(contexts, args.steps)
             del contexts
             ssd, tip3p = timings['ssd'], timings['tip3p']
             row = {'box_nm': edge, 'platform': name, 'precision': properties.get('Precision', 'CPU platform'),
@@ -112,10 +108,7 @@ def plot(rows, name):
         title += f" ({', '.join(missing)}: not measured)"
     ax.set_title(title, fontsize=10)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    path = f'{RESULTS}/{name}.png'
-    fig.savefig(path, dpi=120)
-    print(f'(plot: {path})')
+    save_plot(fig, name)
 
 
 if __name__ == '__main__':

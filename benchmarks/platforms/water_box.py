@@ -13,7 +13,7 @@ import openmm.app as app
 import openmm.unit as unit
 
 import rigidlangevin as rl
-from benchmark_utils import platform_status, time_per_step, write_table, RESULTS
+from benchmark_utils import best_times_alternating, platform_status, save_plot, write_table
 
 
 def build_water_box(box):
@@ -64,7 +64,6 @@ def main():
         for precision in precisions:
             properties = {'Precision': precision} if precision else {}
             steps = args.steps or (100 if name == 'CUDA' else 40)
-            timings = {}
             # Alternate the two integrators so that both see the same machine load.
             contexts = {}
             for kind in ('rigid', 'middle'):
@@ -77,10 +76,7 @@ def main():
                 context.setVelocitiesToTemperature(300*unit.kelvin, 1)
                 integrator.step(10)
                 contexts[kind] = (integrator, context)
-            for round in range(3):
-                for kind, (integrator, context) in contexts.items():
-                    t = time_per_step(integrator, context, steps, repeats=1, subtract_sync=False)
-                    timings[kind] = min(timings.get(kind, float('inf')), t)
+            timings = best_times_alternating(contexts, steps)
             rigid, middle = timings['rigid'], timings['middle']
             row = {'platform': name, 'precision': precision or 'double/single (CPU platform)', 'waters': len(waters),
                    'rigid_langevin_ms_per_step': f'{1e3*rigid:.4g}', 'langevin_middle_settle_ms_per_step': f'{1e3*middle:.4g}',
@@ -116,10 +112,7 @@ def plot(rows, name):
         title += f" ({', '.join(missing)}: not available here)"
     ax.set_title(title, fontsize=10)
     ax.legend(fontsize=8, loc='lower right')
-    fig.tight_layout()
-    path = f'{RESULTS}/{name}.png'
-    fig.savefig(path, dpi=120)
-    print(f'(plot: {path})')
+    save_plot(fig, name)
 
 
 if __name__ == '__main__':
