@@ -64,3 +64,23 @@ def test_flagship_study_short_form(tmp_path):
     assert (tmp_path/'heating_curve.png').stat().st_size > 10000
     timings = list(csv.reader(open(tmp_path/'timings.csv')))
     assert len(timings) == 7 and all(float(t[1]) > 0 for t in timings[1:])
+
+
+def test_ssd_scene_quick(tmp_path):
+    # The source's SSD scene in its quick form: the table beside the source's numbers and the heating
+    # curves are written; at each viscosity the mean temperature is the bath's within the statistics
+    # of the run, and the heating runs start cold and the thermostatted ones approach 300 K.
+    result = subprocess.run([sys.executable, str(ROOT/'examples'/'ssd_scene.py'), '--quick', '--out', str(tmp_path)],
+                            capture_output=True, text=True, timeout=900)
+    assert result.returncode == 0, result.stderr
+    with open(tmp_path/'temperatures.csv') as f:
+        rows = list(csv.DictReader(f))
+    assert [float(r['viscosity_poise']) for r in rows] == [1.0, 0.1, 0.01]
+    for r in rows:
+        assert abs(float(r['mean_T'])-300) < WINDOW*float(r['mean_T_error']), r
+    assert '| 0.1 |' in (tmp_path/'table.md').read_text()
+    with open(tmp_path/'heating.csv') as f:
+        heating = list(csv.DictReader(f))
+    assert float(heating[0]['NVE']) < 200 and float(heating[0]['Nose-Hoover 5 ps']) < 200
+    assert float(heating[-1]['RigidLangevin 0.1 P']) > 250  # 0.1 P relaxes the temperature within femtoseconds
+    assert (tmp_path/'heating.png').stat().st_size > 10000
