@@ -3,7 +3,6 @@
 
 #include "RigidLangevinKernels.h"
 #include "StickyDipoleInteraction.h"
-#include "ReferenceForce.h"
 #include "ReferenceNeighborList.h"
 #include "ReferencePlatform.h"
 #include "openmm/reference/SimTKOpenMMRealType.h"
@@ -19,6 +18,10 @@ namespace RigidLangevinPlugin {
  * one), then the pairs split into one contiguous share per thread, each accumulating into its own
  * buffers, summed in thread order (the same result for the same number of threads). A platform
  * supplies its threads; Reference runs one.
+ *
+ * The neighbour list holds the pairs within the cutoff plus a skin, and is rebuilt only when a
+ * site has moved more than half the skin since (or the box changed): until then every pair within
+ * the cutoff is in it. Building it costs more than the pairs themselves.
  */
 class HostCalcStickyDipoleForceKernel : public CalcStickyDipoleForceKernel {
 public:
@@ -42,6 +45,8 @@ public:
         }
         method = force.getNonbondedMethod();
         cutoff = force.getCutoffDistance();
+        pairs.clear();
+        listPositions.clear();
         useSwitching = force.getUseSwitchingFunction();
         switchingDistance = force.getSwitchingDistance();
         double dielectric = force.getReactionFieldDielectric();
@@ -60,15 +65,7 @@ public:
             frames.push_back(SiteFrame(positions[particles[i]], positions[references1[i]], positions[references2[i]]));
             sitePositions[i] = positions[particles[i]];
         }
-        OpenMM::NeighborList pairs;
-        if (method == StickyDipoleForce::NoCutoff) {
-            for (int i = 0; i < numSites; i++)
-                for (int j = i+1; j < numSites; j++)
-                    if (exclusions[i].count(j) == 0)
-                        pairs.push_back(OpenMM::AtomPair(i, j));
-        }
-        else
-            OpenMM::computeNeighborListVoxelHash(pairs, numSites, sitePositions, exclusions, box, periodic, cutoff, 0.0, false);
+        updatePairs(sitePositions, box, periodic);
         // Per thread: the energy, and the gradient with respect to each site's position and axes.
         int numThreads = getNumThreads();
         std::vector<double> energies(numThreads, 0.0);
@@ -81,7 +78,13 @@ public:
             long long begin = (long long) pairs.size()*thread/numThreads, end = (long long) pairs.size()*(thread+1)/numThreads;
             for (long long p = begin; p < end; p++) {
                 int i = pairs[p].first, j = pairs[p].second;
-                Vec3 d = (periodic ? OpenMM::ReferenceForce::getDeltaRPeriodic(sitePositions[i], sitePositions[j], box) : sitePositions[j]-sitePositions[i]);
+                Vec3 d = sitePositions[j]-sitePositions[i];
+                if (periodic) {
+                    // The nearest image, for any triclinic box in OpenMM's reduced form.
+                    d -= box[2]*std::round(d[2]/box[2][2]);
+                    d -= box[1]*std::round(d[1]/box[1][1]);
+                    d -= box[0]*std::round(d[0]/box[0][0]);
+                }
                 double switchFactor = 1, switchDerivative = 0;
                 if (method != StickyDipoleForce::NoCutoff) {
                     double r = std::sqrt(d.dot(d));
@@ -124,6 +127,35 @@ public:
         return energy;
     }
 protected:
+    /** Rebuild the list of pairs if a site may have come within the cutoff of one not in it. */
+    void updatePairs(const std::vector<OpenMM::Vec3>& sitePositions, const OpenMM::Vec3* box, bool periodic) {
+        int numSites = sitePositions.size();
+        if (method == StickyDipoleForce::NoCutoff) {
+            if (pairs.empty())
+                for (int i = 0; i < numSites; i++)
+                    for (int j = i+1; j < numSites; j++)
+                        if (exclusions[i].count(j) == 0)
+                            pairs.push_back(OpenMM::AtomPair(i, j));
+            return;
+        }
+        // The skin may not take the list beyond half the box, where nearest images stop being unique.
+        double skin = 0.1;
+        if (periodic)
+            skin = std::min(skin, 0.5*std::min(box[0][0], std::min(box[1][1], box[2][2]))-cutoff);
+        bool rebuild = (listPositions.size() != sitePositions.size() || skin <= 0);
+        for (int k = 0; k < 3 && !rebuild; k++)
+            rebuild = !(box[k] == listBox[k]);
+        for (int i = 0; i < numSites && !rebuild; i++) {
+            OpenMM::Vec3 moved = sitePositions[i]-listPositions[i];
+            rebuild = (moved.dot(moved) > 0.25*skin*skin);
+        }
+        if (!rebuild)
+            return;
+        OpenMM::computeNeighborListVoxelHash(pairs, numSites, sitePositions, exclusions, box, periodic, cutoff+std::max(skin, 0.0), 0.0, false);
+        listPositions = sitePositions;
+        for (int k = 0; k < 3; k++)
+            listBox[k] = box[k];
+    }
     /** How many threads share the pairs. */
     virtual int getNumThreads() {
         return 1;
@@ -137,6 +169,9 @@ private:
     std::vector<int> particles, references1, references2;
     std::vector<StickyDipoleForce::SiteParameters> parameters;
     std::vector<std::set<int> > exclusions;
+    OpenMM::NeighborList pairs;
+    std::vector<OpenMM::Vec3> listPositions;  // where the sites were when the list was built
+    OpenMM::Vec3 listBox[3];
     StickyDipoleForce::NonbondedMethod method;
     double cutoff, switchingDistance, kappa;
     bool useSwitching;

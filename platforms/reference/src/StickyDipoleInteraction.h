@@ -112,7 +112,7 @@ inline double pairEnergy(const StickyDipoleForce::SiteParameters& pi, const Stic
     double r2 = d.dot(d), r = std::sqrt(r2), rInv = 1/r, r2Inv = rInv*rInv;
     // Lennard-Jones with Lorentz-Berthelot combination.
     double sigma = 0.5*(pi.sigma+pj.sigma), epsilon = std::sqrt(pi.epsilon*pj.epsilon);
-    double sr6 = std::pow(sigma*sigma*r2Inv, 3);
+    double sr2 = sigma*sigma*r2Inv, sr6 = sr2*sr2*sr2;
     double lj = 4*epsilon*(sr6*sr6-sr6);
     double ljDerivative = 4*epsilon*(-12*sr6*sr6+6*sr6)*rInv;  // dU/dr
     // Point dipoles along the z axes.
