@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Run the platform benchmarks: integrator cost (1e3 to 1e6 bodies) and the rigid water box against
-# LangevinMiddleIntegrator with SETTLE, on every platform. Tables go to stdout and to
+# LangevinMiddleIntegrator with SETTLE, and SSD/RF water against TIP3P, on every platform. Tables go to stdout and to
 # benchmarks/platforms/results/*.csv, plots to results/*.png; with a GPU and ncu, also the
 # integrator's memory bandwidth (gpu_bandwidth.py). Takes about 30 minutes on 2 cores.
 #
@@ -15,5 +15,7 @@ echo "==> integrator cost"
 "$ROOT/.venv/bin/python" integrator_cost.py "$@" 2>&1 | grep -v "Using an unsupported OpenCL implementation"
 echo "==> rigid water box"
 "$ROOT/.venv/bin/python" water_box.py 2>&1 | grep -v "Using an unsupported OpenCL implementation"
+echo "==> single-site SSD/RF water against TIP3P"
+"$ROOT/.venv/bin/python" ssd_water.py 2>&1 | grep -v "Using an unsupported OpenCL implementation"
 echo "==> GPU memory bandwidth (CUDA and Nsight Compute only)"
 "$ROOT/.venv/bin/python" gpu_bandwidth.py
