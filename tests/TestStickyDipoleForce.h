@@ -315,6 +315,35 @@ TEST_P(StickyDipoleForceTest, BadSitesAreClearErrors) {
         expectError(w, {"site 1", "rL < rU"});
     }
     EXPECT_THROW(StickyDipoleForce::getModelParameters("TIP3P"), OpenMMException);
+    {
+        // Without a sticky term its switch may be empty: Lennard-Jones and dipole sites alone.
+        WaterBox w = makeWaters("SSD", 2, 0.3, 1);
+        StickyDipoleForce::SiteParameters plain = p;
+        plain.nu0 = plain.nu0Prime = 0;
+        plain.rL = plain.rU = plain.rLPrime = plain.rUPrime = 0;
+        for (int i = 0; i < 8; i++)
+            w.force->setSiteParameters(i, 3*i, 3*i+1, 3*i+2, plain);
+        VerletIntegrator integrator(0.001);
+        std::unique_ptr<Context> context(createContext(w.system, integrator, config));
+        context->setPositions(w.positions);
+        EXPECT_TRUE(std::isfinite(context->getState(State::Energy).getPotentialEnergy()));
+    }
+    {
+        // A box shrunk below twice the cutoff after the Context was made is caught when the energy is computed.
+        WaterBox w = makeWaters("SSD", 4, 0.3, 1);
+        usePeriodicCutoff(w);
+        VerletIntegrator integrator(0.001);
+        std::unique_ptr<Context> context(createContext(w.system, integrator, config));
+        context->setPositions(w.positions);
+        context->setPeriodicBoxVectors(Vec3(1.0, 0, 0), Vec3(0, 1.0, 0), Vec3(0, 0, 1.0));
+        try {
+            context->getState(State::Energy);
+            ADD_FAILURE() << "expected an OpenMMException about the box";
+        }
+        catch (const OpenMMException& e) {
+            EXPECT_NE(std::string::npos, std::string(e.what()).find("half the periodic box")) << e.what();
+        }
+    }
 }
 
 TEST_P(StickyDipoleForceTest, RigidWatersConserveEnergyWithoutFriction) {

@@ -51,7 +51,8 @@ namespace RigidLangevinPlugin {
  * For sites of one kind the sticky term is the published one; sites of different kinds each
  * contribute their own half. With a cutoff, S(r) is the same cubic switch from the switching
  * distance to the cutoff (1 everywhere if switching is off), and each site adds the reaction
- * field's self energy -k kappa dipole^2. Excluded pairs do not interact.
+ * field's self energy -k kappa dipole^2. Excluded pairs do not interact. A periodic cutoff may not
+ * exceed half the box's width (checked whenever the energy is computed).
  *
  * Units are OpenMM's: nm, kJ/mol, dipole moments in e*nm (1 D = 0.0208194 e*nm).
  */
@@ -66,12 +67,17 @@ public:
     /** The parameters of one site. Lengths in nm, energies in kJ/mol, the dipole in e*nm. */
     struct SiteParameters {
         double sigma, epsilon, dipole;
-        double nu0, rL, rU;                ///< the tetrahedral term w and its switch s(r)
-        double nu0Prime, rLPrime, rUPrime; ///< the dipole-alignment term w' and its switch s'(r)
+        double nu0, rL, rU;                ///< the tetrahedral term w and its switch s(r) (rL < rU unless nu0 = 0)
+        double nu0Prime, rLPrime, rUPrime; ///< the dipole-alignment term w' and its switch s'(r) (rL' < rU' unless nu0' = 0)
         double w0;                         ///< the offset of w' (0.07715 for the SSD family)
         SiteParameters();
     };
-    /** A named SSD-family model: "SSD", "SSD1", "SSD/E" or "SSD/RF" (see SCENES.md's table). */
+    /**
+     * The parameters of a named SSD-family model: "SSD" (Liu & Ichiye 1996, as tabulated with SSD1),
+     * "SSD1" (Tan et al. 2003), "SSD/E" or "SSD/RF" (Fennell & Gezelter 2004); the same values as
+     * OpenMD's forceFields/Water.frc. The point quadrupole OpenMD also gives these types is not
+     * modelled: neat SSD water interacts through its dipole.
+     */
     static SiteParameters getModelParameters(const std::string& model);
 
     StickyDipoleForce();

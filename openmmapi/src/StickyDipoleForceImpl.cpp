@@ -37,9 +37,14 @@ void StickyDipoleForceImpl::initialize(ContextImpl& context) {
         if (!positiveOrZero(p.sigma) || !positiveOrZero(p.epsilon) || !std::isfinite(p.dipole) || !std::isfinite(p.nu0) || !std::isfinite(p.nu0Prime)
                 || !std::isfinite(p.w0))
             throw OpenMMException(site+": sigma and epsilon must be finite and not negative, dipole, nu0, nu0' and w0 finite");
-        if (!(p.rL >= 0 && p.rL < p.rU && std::isfinite(p.rU)) || !(p.rLPrime >= 0 && p.rLPrime < p.rUPrime && std::isfinite(p.rUPrime)))
-            throw OpenMMException(site+": the sticky switches need 0 <= rL < rU and 0 <= rL' < rU' (got rL = "+std::to_string(p.rL)+", rU = "
-                                  +std::to_string(p.rU)+", rL' = "+std::to_string(p.rLPrime)+", rU' = "+std::to_string(p.rUPrime)+" nm)");
+        // A switch from 1 to 0 over no distance would be a step in the energy; without its term it does not matter.
+        auto switchOk = [] (double lower, double upper, double strength) {
+            return lower >= 0 && std::isfinite(upper) && (lower < upper || (strength == 0 && lower <= upper));
+        };
+        if (!switchOk(p.rL, p.rU, p.nu0) || !switchOk(p.rLPrime, p.rUPrime, p.nu0Prime))
+            throw OpenMMException(site+": the sticky switches need 0 <= rL < rU and 0 <= rL' < rU' (or equal where nu0 or nu0' is 0; got rL = "
+                                  +std::to_string(p.rL)+", rU = "+std::to_string(p.rU)+", rL' = "+std::to_string(p.rLPrime)+", rU' = "
+                                  +std::to_string(p.rUPrime)+" nm)");
     }
     std::set<std::pair<int, int> > excluded;
     for (int i = 0; i < owner.getNumExclusions(); i++) {

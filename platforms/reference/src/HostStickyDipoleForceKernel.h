@@ -5,7 +5,9 @@
 #include "StickyDipoleInteraction.h"
 #include "ReferenceNeighborList.h"
 #include "ReferencePlatform.h"
+#include "openmm/OpenMMException.h"
 #include "openmm/reference/SimTKOpenMMRealType.h"
+#include <string>
 #include <functional>
 #include <set>
 #include <vector>
@@ -140,8 +142,13 @@ protected:
         }
         // The skin may not take the list beyond half the box, where nearest images stop being unique.
         double skin = 0.1;
-        if (periodic)
-            skin = std::min(skin, 0.5*std::min(box[0][0], std::min(box[1][1], box[2][2]))-cutoff);
+        if (periodic) {
+            double half = 0.5*std::min(box[0][0], std::min(box[1][1], box[2][2]));
+            if (cutoff > half)
+                throw OpenMM::OpenMMException("StickyDipoleForce: the cutoff ("+std::to_string(cutoff)+" nm) exceeds half the periodic box ("
+                                      +std::to_string(half)+" nm); use a larger box or a shorter cutoff");
+            skin = std::min(skin, half-cutoff);
+        }
         bool rebuild = (listPositions.size() != sitePositions.size() || skin <= 0);
         for (int k = 0; k < 3 && !rebuild; k++)
             rebuild = !(box[k] == listBox[k]);
