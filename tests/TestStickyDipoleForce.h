@@ -341,7 +341,9 @@ TEST_P(StickyDipoleForceTest, BadSitesAreClearErrors) {
             ADD_FAILURE() << "expected an OpenMMException about the box";
         }
         catch (const OpenMMException& e) {
-            EXPECT_NE(std::string::npos, std::string(e.what()).find("half the periodic box")) << e.what();
+            // The GPU platforms' neighbour list (OpenMM's) says so before this force is reached.
+            std::string message = e.what();
+            EXPECT_TRUE(message.find("half the periodic box") != std::string::npos || message.find("twice the nonbonded cutoff") != std::string::npos) << message;
         }
     }
 }
@@ -441,3 +443,56 @@ TEST_P(StickyDipoleForceTest, XmlRoundTripKeepsEverything) {
 }
 
 INSTANTIATE_TEST_SUITE_P(OnPlatform, StickyDipoleForceTest, testing::ValuesIn(platformConfigs()), PlatformConfigName());
+
+class StickyDipoleForceParity : public testing::TestWithParam<PlatformConfig> {
+};
+
+/**
+ * The platform's energy and forces against Reference's, in each precision, for 64 waters of two
+ * site types in a periodic box with switching, reaction field and exclusions.
+ *
+ * Tolerances. In double precision the platforms differ from Reference by round-off and, on GPU
+ * platforms, by OpenMM's 64-bit fixed-point force accumulation (2^-32 kJ/mol/nm per added term, a
+ * few hundred terms per particle): 1e-9 of the largest force, 1e-10 of the energy. In single and
+ * mixed precision positions and pair terms are rounded to 6e-8 relative; a pair's forces near
+ * contact come from r^-13 and r^-4 terms whose rounding grows about 13-fold, and a particle's force
+ * cancels among ~100 pairs of ~10^3 kJ/mol/nm: 1e-5 of the largest force, and 1e-6 of the energy
+ * (measured on PoCL: 3e-6 and 1e-7). A wrong term (a sign, a missing switch or sticky term, a pair
+ * counted twice) changes them by more than 1e-2.
+ */
+TEST_P(StickyDipoleForceParity, AgreesWithReference) {
+    WaterBox w = makeWaters("SSD/RF", 4, 0.3, 13);
+    usePeriodicCutoff(w);
+    w.force->addExclusion(0, 1);
+    w.force->addExclusion(7, 2);
+    StickyDipoleForce::SiteParameters other = StickyDipoleForce::getModelParameters("SSD1");
+    for (int i = 0; i < w.force->getNumSites(); i += 3)
+        w.force->setSiteParameters(i, 3*i, 3*i+1, 3*i+2, other);
+    auto evaluate = [&] (const PlatformConfig& config, std::vector<Vec3>& forces) {
+        VerletIntegrator integrator(0.001);
+        std::unique_ptr<Context> context(createContext(w.system, integrator, config));
+        context->setPositions(w.positions);
+        State state = context->getState(State::Energy | State::Forces);
+        forces = state.getForces();
+        return state.getPotentialEnergy();
+    };
+    PlatformConfig reference;
+    reference.platform = "Reference";
+    reference.precision = "double";
+    std::vector<Vec3> expectedForces, forces;
+    double expected = evaluate(reference, expectedForces), energy = evaluate(GetParam(), forces);
+    double largest = 0;
+    for (const Vec3& f : expectedForces)
+        largest = std::max(largest, std::sqrt(f.dot(f)));
+    double worst = 0;
+    for (int i = 0; i < (int) forces.size(); i++)
+        worst = std::max(worst, std::sqrt((forces[i]-expectedForces[i]).dot(forces[i]-expectedForces[i])));
+    bool isDouble = (GetParam().precision == "double");
+    std::cout << GetParam().name() << ": energy " << energy << " kJ/mol, relative difference " << (energy-expected)/std::abs(expected)
+              << "; largest force difference " << worst << " of " << largest << " kJ/mol/nm" << std::endl;
+    EXPECT_NEAR(expected, energy, (isDouble ? 1e-10 : 1e-6)*std::abs(expected));
+    EXPECT_LT(worst, (isDouble ? 1e-9 : 1e-5)*largest);
+}
+
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(StickyDipoleForceParity);
+INSTANTIATE_TEST_SUITE_P(OnPlatform, StickyDipoleForceParity, testing::ValuesIn(nonReferenceConfigs()), PlatformConfigName());

@@ -62,7 +62,7 @@ def platform(request):
 
 #: The platforms with a kernel for StickyDipoleForce: Reference and CPU (which runs the Reference
 #: kernel); the OpenCL and CUDA kernels are not written yet.
-STICKY_DIPOLE_PLATFORMS = ('Reference', 'CPU')
+STICKY_DIPOLE_PLATFORMS = ('Reference', 'CPU', 'OpenCL', 'CUDA')
 
 
 @pytest.fixture(params=[n for n in available_platforms() if n in STICKY_DIPOLE_PLATFORMS])

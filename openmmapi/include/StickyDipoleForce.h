@@ -96,7 +96,12 @@ public:
     }
     void getSiteParameters(int index, int& particle, int& reference1, int& reference2, SiteParameters& parameters) const;
     void setSiteParameters(int index, int particle, int reference1, int reference2, const SiteParameters& parameters);
-    /** Exclude the interaction between two sites (indices of sites, not particles). */
+    /**
+     * Exclude the interaction between two sites (indices of sites, not particles). On the OpenCL and
+     * CUDA platforms, whose nonbonded kernel this force shares, a force with exclusions must have the
+     * same exclusions (between the same particles) as every other nonbonded force in the System that
+     * uses any: OpenMM's rule for that kernel, which says so when it is broken.
+     */
     int addExclusion(int site1, int site2);
     int getNumExclusions() const {
         return exclusions.size();

@@ -1,4 +1,5 @@
 #include "CudaRigidLangevinKernelFactory.h"
+#include "CommonCalcStickyDipoleForceKernel.h"
 #include "CommonRigidLangevinKernels.h"
 #include "CudaContext.h"
 #include "CudaPlatform.h"
@@ -14,8 +15,10 @@ namespace {
 void registerFactories() {
     for (int i = 0; i < Platform::getNumPlatforms(); i++) {
         Platform& platform = Platform::getPlatform(i);
-        if (platform.getName() == "CUDA")
+        if (platform.getName() == "CUDA") {
             platform.registerKernelFactory(IntegrateRigidLangevinStepKernel::Name(), new CudaRigidLangevinKernelFactory());
+            platform.registerKernelFactory(CalcStickyDipoleForceKernel::Name(), new CudaRigidLangevinKernelFactory());
+        }
     }
 }
 
@@ -36,5 +39,7 @@ KernelImpl* CudaRigidLangevinKernelFactory::createKernelImpl(std::string name, c
     CudaContext& cu = *static_cast<CudaPlatform::PlatformData*>(context.getPlatformData())->contexts[0];
     if (name == IntegrateRigidLangevinStepKernel::Name())
         return new CommonIntegrateRigidLangevinStepKernel(name, platform, cu);
+    if (name == CalcStickyDipoleForceKernel::Name())
+        return new CommonCalcStickyDipoleForceKernel(name, platform, cu);
     throw OpenMMException((std::string("Tried to create kernel with illegal kernel name '")+name+"'").c_str());
 }

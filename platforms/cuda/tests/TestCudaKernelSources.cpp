@@ -1,6 +1,7 @@
 /*
  * The common platforms' device source compiles for CUDA, in every precision, exactly as the CUDA
- * platform would compile it: OpenMM's own CUDA prelude (CudaKernelSources::common and vectorOps,
+ * platform would compile it (StickyDipoleForce's pair term inside a stand-in for OpenMM's
+ * nonbonded kernel, which declares what that kernel gives it): OpenMM's own CUDA prelude (CudaKernelSources::common and vectorOps,
  * read from libOpenMMCUDA), the precision's types, the plugin's definitions and source, through
  * NVRTC. NVRTC needs no GPU, so this runs wherever the CUDA toolkit is installed; the tests that
  * run the CUDA platform (the other runners in this directory) need a GPU.
@@ -11,6 +12,7 @@
  * but cannot be opened, or lacks the prelude, is a failure.
  */
 #include "RigidBodyKernelLayout.h"
+#include "CommonRigidLangevinKernelSources.h"
 #include <dlfcn.h>
 #include <unistd.h>
 #include <gtest/gtest.h>
@@ -51,6 +53,33 @@ CudaPrelude loadPrelude() {
     return prelude;
 }
 
+/**
+ * StickyDipoleForce's pair term in a kernel that declares what OpenMM's nonbonded kernel gives it
+ * (atom1, atom2, posq1, posq2, delta, r2, r, invR, isExcluded, interactionScale, tempEnergy, the
+ * per-atom parameters), its placeholders defined as CommonCalcStickyDipoleForceKernel replaces them.
+ */
+std::string stickyDipolePairKernel() {
+    std::ostringstream src;
+    src << "#define SITE_X1 x1\n#define SITE_X2 x2\n#define SITE_Y1 y1\n#define SITE_Y2 y2\n#define TYPE_PARAMS types\n";
+    src << "#define GRADIENTS gradients\n#define TYPE_STRIDE 10\n#define IS_EXCLUDED isExcluded\n#define USE_SWITCH 1\n";
+    src << "#define SWITCH_LOWER ((real) 0.8)\n#define SWITCH_UPPER ((real) 0.9)\n#define COULOMB ((real) 138.9)\n#define KAPPA ((real) 0.6)\n";
+    src << "#define THREE_FIFTHS ((real) 0.6)\n#define FOUR_FIFTHS ((real) 0.8)\n#define ONE_FIFTH ((real) 0.2)\n";
+    src << "#define USE_CUTOFF 1\n#define CUTOFF_SQUARED ((real) 0.81)\n#define INCLUDE_FORCES 1\n";
+    src << "extern \"C\" __global__ void stickyDipolePair(const real4* posq, const real4* xAxis, const real4* yAxis, const real* types,\n"
+           "        unsigned long long* gradients, mixed* energyBuffer) {\n"
+           "    unsigned int atom1 = threadIdx.x, atom2 = blockIdx.x;\n"
+           "    real4 posq1 = posq[atom1], posq2 = posq[atom2];\n"
+           "    real4 x1 = xAxis[atom1], x2 = xAxis[atom2], y1 = yAxis[atom1], y2 = yAxis[atom2];\n"
+           "    real3 delta = make_real3(posq2.x-posq1.x, posq2.y-posq1.y, posq2.z-posq1.z);\n"
+           "    real r2 = dot(delta, delta), invR = RSQRT(r2), r = r2*invR;\n"
+           "    bool isExcluded = false;\n"
+           "    const real interactionScale = 1;\n"
+           "    real tempEnergy = 0;\n";
+    src << CommonRigidLangevinKernelSources::stickyDipolePair << "\n";
+    src << "    energyBuffer[atom1] += tempEnergy;\n}\n";
+    return src.str();
+}
+
 /** The source CudaContext::compileProgram builds for the plugin's kernels in one precision. */
 std::string compositeSource(const CudaPrelude& prelude, const std::string& precision) {
     bool doublePrecision = (precision == "double"), mixedIsDouble = (precision != "single");
@@ -67,10 +96,14 @@ std::string compositeSource(const CudaPrelude& prelude, const std::string& preci
     src << "typedef " << real << " real;\ntypedef " << real << "2 real2;\ntypedef " << real << "3 real3;\ntypedef " << real << "4 real4;\n";
     src << "typedef " << mixed << " mixed;\ntypedef " << mixed << "2 mixed2;\ntypedef " << mixed << "3 mixed3;\ntypedef " << mixed << "4 mixed4;\n";
     src << "typedef unsigned int tileflags;\n";
+    // CudaContext's math defines (those the plugin's source uses).
+    src << "#define SQRT " << (doublePrecision ? "sqrt" : "sqrtf") << "\n#define RSQRT " << (doublePrecision ? "rsqrt" : "rsqrtf") << "\n";
     src << *prelude.common << "\n";
     for (auto& define : RigidBodyKernelLayout::defines(1024, mixedIsDouble))
         src << "#define " << define.first << " " << define.second << "\n";
     src << *prelude.vectorOps << RigidBodyKernelLayout::source() << "\n";
+    src << CommonRigidLangevinKernelSources::stickyDipoleSites << "\n";
+    src << stickyDipolePairKernel() << "\n";
     return src.str();
 }
 

@@ -1,4 +1,5 @@
 #include "OpenCLRigidLangevinKernelFactory.h"
+#include "CommonCalcStickyDipoleForceKernel.h"
 #include "CommonRigidLangevinKernels.h"
 #include "OpenCLContext.h"
 #include "OpenCLPlatform.h"
@@ -14,8 +15,10 @@ namespace {
 void registerFactories() {
     for (int i = 0; i < Platform::getNumPlatforms(); i++) {
         Platform& platform = Platform::getPlatform(i);
-        if (platform.getName() == "OpenCL")
+        if (platform.getName() == "OpenCL") {
             platform.registerKernelFactory(IntegrateRigidLangevinStepKernel::Name(), new OpenCLRigidLangevinKernelFactory());
+            platform.registerKernelFactory(CalcStickyDipoleForceKernel::Name(), new OpenCLRigidLangevinKernelFactory());
+        }
     }
 }
 
@@ -36,5 +39,7 @@ KernelImpl* OpenCLRigidLangevinKernelFactory::createKernelImpl(std::string name,
     OpenCLContext& cl = *static_cast<OpenCLPlatform::PlatformData*>(context.getPlatformData())->contexts[0];
     if (name == IntegrateRigidLangevinStepKernel::Name())
         return new CommonIntegrateRigidLangevinStepKernel(name, platform, cl);
+    if (name == CalcStickyDipoleForceKernel::Name())
+        return new CommonCalcStickyDipoleForceKernel(name, platform, cl);
     throw OpenMMException((std::string("Tried to create kernel with illegal kernel name '")+name+"'").c_str());
 }

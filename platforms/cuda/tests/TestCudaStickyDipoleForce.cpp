@@ -1,0 +1,3 @@
+// tests/TestStickyDipoleForce.h on the CUDA platform.
+#include "CudaTests.h"
+#include "TestStickyDipoleForce.h"

@@ -1,0 +1,3 @@
+// tests/TestStickyDipoleForce.h on the OpenCL platform.
+#include "OpenCLTests.h"
+#include "TestStickyDipoleForce.h"
