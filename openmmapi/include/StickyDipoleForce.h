@@ -54,6 +54,15 @@ namespace RigidLangevinPlugin {
  * field's self energy -k kappa dipole^2. Excluded pairs do not interact. A periodic cutoff may not
  * exceed half the box's width (checked whenever the energy is computed).
  *
+ * This is the form of the source's own code (OOPSE, OpenMD's predecessor, at the commit of its
+ * Langevin integrator, December 2008: electrostatic.F90, sticky.F90, switcheroo.F90): the dipole
+ * pair term with -2 kappa mu_i.mu_j, the self term -kappa mu^2, the cubic switch from the switching
+ * radius to the cutoff. OOPSE multiplied the sticky term by the switch too; the switch is 1 wherever
+ * the sticky term is nonzero as long as the switching distance is at least rU and rU' (0.4 nm for
+ * the published models; the source switched from 0.85 r_c = 0.765 nm), and this force leaves it
+ * unswitched. Today's OpenMD shifts the reaction field instead (its dipole terms carry 1/r_c^3 in
+ * place of -2 kappa): a different model, not this one.
+ *
  * Units are OpenMM's: nm, kJ/mol, dipole moments in e*nm (1 D = 0.0208194 e*nm).
  */
 class OPENMM_EXPORT_RIGIDLANGEVIN StickyDipoleForce : public OpenMM::Force {
