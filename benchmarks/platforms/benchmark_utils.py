@@ -25,6 +25,18 @@ def platform_status(name):
     return None
 
 
+def running_context(system, integrator, positions, platform_name, properties, warmup_steps=0):
+    """A Context on the named platform, at the positions, with velocities at 300 K (seed 1), after
+    warmup_steps steps (so that kernels are compiled and neighbour lists built before timing)."""
+    import openmm.unit as unit
+    context = mm.Context(system, integrator, mm.Platform.getPlatformByName(platform_name), properties)
+    context.setPositions(positions)
+    context.setVelocitiesToTemperature(300*unit.kelvin, 1)
+    if warmup_steps:
+        integrator.step(warmup_steps)
+    return context
+
+
 def time_per_step(integrator, context, steps, repeats=3, min_seconds=0.2, subtract_sync=True):
     """Time per step (seconds). Each block of steps ends with a State (the sync). With subtract_sync,
     the difference between the best block of 2*steps and the best block of steps, which cancels the

@@ -14,7 +14,7 @@ import openmm as mm
 import openmm.unit as unit
 
 import rigidlangevin as rl
-from benchmark_utils import platform_status, time_per_step, write_table, save_plot
+from benchmark_utils import platform_status, time_per_step, write_table, save_plot, running_context
 
 WATER = np.array([[0, 0, 0], [0.09572, 0, 0], [-0.02399, 0.09266, 0]])
 MASSES = (15.999, 1.008, 1.008)
@@ -74,9 +74,7 @@ def main():
                 row = {'platform': name, 'precision': precision, 'bodies': n}
                 for rigid in (True, False):
                     system, integrator, positions = build(n, rigid)
-                    context = mm.Context(system, integrator, mm.Platform.getPlatformByName(name), properties)
-                    context.setPositions(positions)
-                    context.setVelocitiesToTemperature(300*unit.kelvin, 1)
+                    context = running_context(system, integrator, positions, name, properties)
                     seconds = time_per_step(integrator, context, steps_for(n))
                     if rigid:
                         row['ms_per_step'] = f'{1e3*seconds:.4g}'

@@ -16,7 +16,7 @@ import openmm.app as app
 import openmm.unit as unit
 
 import rigidlangevin as rl
-from benchmark_utils import best_times_alternating, platform_status, save_plot, write_table
+from benchmark_utils import best_times_alternating, platform_status, save_plot, write_table, running_context
 
 STICKY_KERNEL = 'CalcStickyDipoleForce'
 
@@ -69,11 +69,7 @@ def main():
             contexts = {}
             for model, (n, system, positions, make_integrator) in models.items():
                 integrator = make_integrator()
-                context = mm.Context(system, integrator, mm.Platform.getPlatformByName(name), properties)
-                context.setPositions(positions)
-                context.setVelocitiesToTemperature(300*unit.kelvin, 1)
-                integrator.step(10)
-                contexts[model] = (integrator, context)
+                contexts[model] = (integrator, running_context(system, integrator, positions, name, properties, warmup_steps=10))
             timings = best_times_alternating(contexts, args.steps)
             del contexts
             ssd, tip3p = timings['ssd'], timings['tip3p']

@@ -13,7 +13,7 @@ import openmm.app as app
 import openmm.unit as unit
 
 import rigidlangevin as rl
-from benchmark_utils import best_times_alternating, platform_status, save_plot, write_table
+from benchmark_utils import best_times_alternating, platform_status, save_plot, write_table, running_context
 
 
 def build_water_box(box):
@@ -71,11 +71,7 @@ def main():
                     integrator = rigid_integrator(system, waters)
                 else:
                     integrator = mm.LangevinMiddleIntegrator(300*unit.kelvin, 1/unit.picosecond, 2*unit.femtoseconds)
-                context = mm.Context(system, integrator, mm.Platform.getPlatformByName(name), properties)
-                context.setPositions(positions)
-                context.setVelocitiesToTemperature(300*unit.kelvin, 1)
-                integrator.step(10)
-                contexts[kind] = (integrator, context)
+                contexts[kind] = (integrator, running_context(system, integrator, positions, name, properties, warmup_steps=10))
             timings = best_times_alternating(contexts, steps)
             rigid, middle = timings['rigid'], timings['middle']
             row = {'platform': name, 'precision': precision or 'double/single (CPU platform)', 'waters': len(waters),
