@@ -1,8 +1,10 @@
 #include "CpuRigidLangevinKernels.h"
+#include "CpuStickyDipolePairs.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/OSRngSeed.h"
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <istream>
 #include <ostream>
 
@@ -69,4 +71,76 @@ void CpuIntegrateRigidLangevinStepKernel::loadRandomCheckpoint(std::istream& str
                               "(it has "+std::to_string(numStreams)+" random number streams, this context "+std::to_string(random.size())+")");
     for (auto& r : random)
         r->random.loadCheckpoint(stream);
+}
+
+double CpuCalcStickyDipoleForceKernel::computePairs(long long begin, long long end, const std::vector<Vec3>& sitePositions,
+                                                   const std::vector<SiteFrame>& frames, const Vec3* box, std::vector<Vec3>& siteForces,
+                                                   std::vector<Vec3>& torques) {
+    const int lanes = StickyPairBlock::Lanes;
+    double boxValues[9];
+    StickyPairSettings settings;
+    settings.box = nullptr;
+    if (method == StickyDipoleForce::CutoffPeriodic) {
+        for (int k = 0; k < 3; k++)
+            for (int c = 0; c < 3; c++)
+                boxValues[3*k+c] = box[k][c];
+        settings.box = boxValues;
+    }
+    settings.useCutoff = (method != StickyDipoleForce::NoCutoff);
+    settings.useSwitching = (settings.useCutoff && useSwitching);
+    settings.cutoff = cutoff;
+    settings.switchingDistance = switchingDistance;
+    settings.kappa = kappa;
+    auto put = [] (double (*target)[lanes], int lane, const Vec3& v) {
+        for (int c = 0; c < 3; c++)
+            target[c][lane] = v[c];
+    };
+    auto putParameters = [] (double (*target)[lanes], int lane, const StickyDipoleForce::SiteParameters& p) {
+        const double values[] = {p.sigma, p.epsilon, p.dipole, p.nu0, p.rL, p.rU, p.nu0Prime, p.rLPrime, p.rUPrime, p.w0};
+        for (int k = 0; k < 10; k++)
+            target[k][lane] = values[k];
+    };
+    StickyPairBlock block;
+    StickyPairResults results;
+    // Where all sites share their parameters (a neat liquid), every lane has the same: fill them once.
+    bool uniform = true;
+    for (int i = 1; i < (int) parameters.size() && uniform; i++)
+        uniform = (std::memcmp(&parameters[i], &parameters[0], sizeof(parameters[0])) == 0);
+    if (uniform)
+        for (int lane = 0; lane < lanes; lane++) {
+            putParameters(block.pi, lane, parameters[0]);
+            putParameters(block.pj, lane, parameters[0]);
+        }
+    double energy = 0;
+    for (long long first = begin; first < end; first += lanes) {
+        int used = (int) std::min<long long>(lanes, end-first);
+        for (int lane = 0; lane < lanes; lane++) {
+            // An unused lane repeats the block's first pair and is masked out.
+            const std::pair<int, int>& pair = pairs[first+(lane < used ? lane : 0)];
+            int i = pair.first, j = pair.second;
+            put(block.d, lane, sitePositions[j]-sitePositions[i]);
+            put(block.xi, lane, frames[i].x);
+            put(block.yi, lane, frames[i].y);
+            put(block.zi, lane, frames[i].z);
+            put(block.xj, lane, frames[j].x);
+            put(block.yj, lane, frames[j].y);
+            put(block.zj, lane, frames[j].z);
+            if (!uniform) {
+                putParameters(block.pi, lane, parameters[i]);
+                putParameters(block.pj, lane, parameters[j]);
+            }
+            block.used[lane] = (lane < used ? 1.0 : 0.0);
+        }
+        computeStickyPairBlock(block, settings, results);
+        for (int lane = 0; lane < used; lane++) {
+            int i = pairs[first+lane].first, j = pairs[first+lane].second;
+            Vec3 force(results.force[0][lane], results.force[1][lane], results.force[2][lane]);
+            energy += results.energy[lane];
+            siteForces[i] += force;
+            siteForces[j] -= force;
+            torques[i] += Vec3(results.torqueI[0][lane], results.torqueI[1][lane], results.torqueI[2][lane]);
+            torques[j] += Vec3(results.torqueJ[0][lane], results.torqueJ[1][lane], results.torqueJ[2][lane]);
+        }
+    }
+    return energy;
 }

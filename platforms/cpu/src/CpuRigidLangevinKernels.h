@@ -41,8 +41,9 @@ private:
 
 /**
  * StickyDipoleForce on the CPU platform: the host kernel (HostCalcStickyDipoleForceKernel, double
- * precision), its pairs shared among the platform's threads. The sums depend on the number of
- * threads, as those of OpenMM's own CPU forces do.
+ * precision), its pairs shared among the platform's threads and evaluated four at a time
+ * (CpuStickyDipolePairs.h). The sums depend on the number of threads, as those of OpenMM's own CPU
+ * forces do.
  */
 class CpuCalcStickyDipoleForceKernel : public HostCalcStickyDipoleForceKernel {
 public:
@@ -51,6 +52,8 @@ public:
             HostCalcStickyDipoleForceKernel(name, platform, data), threads(cpuData.threads) {
     }
 protected:
+    double computePairs(long long begin, long long end, const std::vector<OpenMM::Vec3>& sitePositions, const std::vector<SiteFrame>& frames,
+                        const OpenMM::Vec3* box, std::vector<OpenMM::Vec3>& siteForces, std::vector<OpenMM::Vec3>& torques);
     int getNumThreads() {
         return threads.getNumThreads();
     }

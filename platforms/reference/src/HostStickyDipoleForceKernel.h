@@ -68,60 +68,33 @@ public:
             sitePositions[i] = positions[particles[i]];
         }
         updatePairs(sitePositions, box, periodic);
-        // Per thread: the energy, and the gradient with respect to each site's position and axes.
+        // Per thread: the energy, and per site the force on it and T, the derivative of the energy
+        // under a rotation of its frame (see computePairs()).
         int numThreads = getNumThreads();
         std::vector<double> energies(numThreads, 0.0);
-        std::vector<std::vector<Vec3> > gd(numThreads), gx(numThreads), gy(numThreads), gz(numThreads);
+        std::vector<std::vector<Vec3> > siteForces(numThreads), torques(numThreads);
         runThreads([&] (int thread) {
-            gd[thread].assign(numSites, Vec3());
-            gx[thread].assign(numSites, Vec3());
-            gy[thread].assign(numSites, Vec3());
-            gz[thread].assign(numSites, Vec3());
+            siteForces[thread].assign(numSites, Vec3());
+            torques[thread].assign(numSites, Vec3());
             long long begin = (long long) pairs.size()*thread/numThreads, end = (long long) pairs.size()*(thread+1)/numThreads;
-            for (long long p = begin; p < end; p++) {
-                int i = pairs[p].first, j = pairs[p].second;
-                Vec3 d = sitePositions[j]-sitePositions[i];
-                if (periodic) {
-                    // The nearest image, for any triclinic box in OpenMM's reduced form.
-                    d -= box[2]*std::round(d[2]/box[2][2]);
-                    d -= box[1]*std::round(d[1]/box[1][1]);
-                    d -= box[0]*std::round(d[0]/box[0][0]);
-                }
-                double switchFactor = 1, switchDerivative = 0;
-                if (method != StickyDipoleForce::NoCutoff) {
-                    double r = std::sqrt(d.dot(d));
-                    if (r >= cutoff)
-                        continue;
-                    if (useSwitching)
-                        switchFactor = cubicSwitch(r, switchingDistance, cutoff, switchDerivative);
-                }
-                PairGradient g;
-                energies[thread] += pairEnergy(parameters[i], parameters[j], frames[i], frames[j], d, switchFactor, switchDerivative, kappa, g);
-                // F_i = -dU/dr_i = dU/dd, F_j = -dU/dd.
-                gd[thread][i] += g.d;
-                gd[thread][j] -= g.d;
-                gx[thread][i] += g.xi;
-                gy[thread][i] += g.yi;
-                gz[thread][i] += g.zi;
-                gx[thread][j] += g.xj;
-                gy[thread][j] += g.yj;
-                gz[thread][j] += g.zj;
-            }
+            energies[thread] = computePairs(begin, end, sitePositions, frames, box, siteForces[thread], torques[thread]);
         });
         double energy = 0;
         for (int thread = 0; thread < numThreads; thread++)
             energy += energies[thread];
         if (includeForces)
             for (int i = 0; i < numSites; i++) {
-                Vec3 siteForce, x, y, z;
+                Vec3 siteForce, torque;
                 for (int thread = 0; thread < numThreads; thread++) {
-                    siteForce += gd[thread][i];
-                    x += gx[thread][i];
-                    y += gy[thread][i];
-                    z += gz[thread][i];
+                    siteForce += siteForces[thread][i];
+                    torque += torques[thread][i];
                 }
+                // Any dU/dx, dU/dy, dU/dz with this T give the same forces through the frame, which
+                // only rotates: T x axis / 2 is one.
+                const SiteFrame& f = frames[i];
                 forces[particles[i]] += siteForce;
-                frames[i].addForces(x, y, z, forces[particles[i]], forces[references1[i]], forces[references2[i]]);
+                f.addForces(torque.cross(f.x)*0.5, torque.cross(f.y)*0.5, torque.cross(f.z)*0.5, forces[particles[i]], forces[references1[i]],
+                            forces[references2[i]]);
             }
         // The reaction field's self energy of each dipole.
         for (int i = 0; i < numSites; i++)
@@ -129,6 +102,44 @@ public:
         return energy;
     }
 protected:
+    /**
+     * The pairs [begin, end) of the list: add to siteForces each site's force and to torques its
+     * T = x cross dU/dx + y cross dU/dy + z cross dU/dz (x, y, z its axes), the derivative of the
+     * energy under an infinitesimal rotation of the frame; return their energy. A platform may
+     * evaluate them its own way (the CPU platform: four at a time).
+     */
+    virtual double computePairs(long long begin, long long end, const std::vector<OpenMM::Vec3>& sitePositions, const std::vector<SiteFrame>& frames,
+                                const OpenMM::Vec3* box, std::vector<OpenMM::Vec3>& siteForces, std::vector<OpenMM::Vec3>& torques) {
+        using OpenMM::Vec3;
+        bool periodic = (method == StickyDipoleForce::CutoffPeriodic);
+        double energy = 0;
+        for (long long p = begin; p < end; p++) {
+            int i = pairs[p].first, j = pairs[p].second;
+            Vec3 d = sitePositions[j]-sitePositions[i];
+            if (periodic) {
+                // The nearest image, for any triclinic box in OpenMM's reduced form.
+                d -= box[2]*std::round(d[2]/box[2][2]);
+                d -= box[1]*std::round(d[1]/box[1][1]);
+                d -= box[0]*std::round(d[0]/box[0][0]);
+            }
+            double switchFactor = 1, switchDerivative = 0;
+            if (method != StickyDipoleForce::NoCutoff) {
+                double r = std::sqrt(d.dot(d));
+                if (r >= cutoff)
+                    continue;
+                if (useSwitching)
+                    switchFactor = cubicSwitch(r, switchingDistance, cutoff, switchDerivative);
+            }
+            PairGradient g;
+            energy += pairEnergy(parameters[i], parameters[j], frames[i], frames[j], d, switchFactor, switchDerivative, kappa, g);
+            // F_i = -dU/dr_i = dU/dd, F_j = -dU/dd.
+            siteForces[i] += g.d;
+            siteForces[j] -= g.d;
+            torques[i] += frames[i].x.cross(g.xi)+frames[i].y.cross(g.yi)+frames[i].z.cross(g.zi);
+            torques[j] += frames[j].x.cross(g.xj)+frames[j].y.cross(g.yj)+frames[j].z.cross(g.zj);
+        }
+        return energy;
+    }
     /** Rebuild the list of pairs if a site may have come within the cutoff of one not in it. */
     void updatePairs(const std::vector<OpenMM::Vec3>& sitePositions, const OpenMM::Vec3* box, bool periodic) {
         int numSites = sitePositions.size();
@@ -171,17 +182,17 @@ protected:
     virtual void runThreads(const std::function<void (int)>& task) {
         task(0);
     }
-private:
-    OpenMM::ReferencePlatform::PlatformData& data;
-    std::vector<int> particles, references1, references2;
     std::vector<StickyDipoleForce::SiteParameters> parameters;
-    std::vector<std::set<int> > exclusions;
     OpenMM::NeighborList pairs;
-    std::vector<OpenMM::Vec3> listPositions;  // where the sites were when the list was built
-    OpenMM::Vec3 listBox[3];
     StickyDipoleForce::NonbondedMethod method;
     double cutoff, switchingDistance, kappa;
     bool useSwitching;
+private:
+    OpenMM::ReferencePlatform::PlatformData& data;
+    std::vector<int> particles, references1, references2;
+    std::vector<std::set<int> > exclusions;
+    std::vector<OpenMM::Vec3> listPositions;  // where the sites were when the list was built
+    OpenMM::Vec3 listBox[3];
 };
 
 } // namespace RigidLangevinPlugin
