@@ -1,4 +1,5 @@
-"""The flagship study: the source's temperature-control experiment, with rigid water.
+"""The second example: the source's temperature-control experiment with rigid TIP3P water (the
+flagship, examples/ssd_scene.py, replays it with the source's own SSD water).
 
 Sun, Lin & Gezelter (J. Chem. Phys. 128, 234107, 2008) ran 256 SSD waters in a cubic box of
 19.7166 A with a 9 A cutoff and 2 fs steps at 300 K under their rigid-body Langevin integrator.

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Set up (idempotent) and run the main job: the flagship study, the source's temperature-control
-# experiment with 256 rigid waters (examples/flagship_water.py; about 7 minutes on 2 cores).
-# Extra arguments go to the study (see python examples/flagship_water.py --help).
+# Set up (idempotent) and run the main job: the flagship, the source's SSD water scene replayed
+# (examples/ssd_scene.py: 256 SSD waters, 1 ns at each of 1, 0.1 and 0.01 P, and the heating curves;
+# about an hour on 2 cores, --quick in about two minutes). Results go to out/ssd_scene/.
+# Extra arguments go to the scene (see python examples/ssd_scene.py --help).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$ROOT/scripts/setup.sh"
 cd "$ROOT"
-exec "$ROOT/.venv/bin/python" "$ROOT/examples/flagship_water.py" "$@"
+exec "$ROOT/.venv/bin/python" "$ROOT/examples/ssd_scene.py" --out "$ROOT/out/ssd_scene" "$@"
