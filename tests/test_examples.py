@@ -81,6 +81,9 @@ def test_ssd_scene_quick(tmp_path):
     assert '| 0.1 |' in (tmp_path/'table.md').read_text()
     with open(tmp_path/'heating.csv') as f:
         heating = list(csv.DictReader(f))
-    assert float(heating[0]['NVE']) < 200 and float(heating[0]['Nose-Hoover 5 ps']) < 200
+    # The heating runs start cold: their first samples (after 20 fs, in which the quick form's briefly
+    # cooled configuration already releases some potential energy) lie more than 5 rms fluctuations
+    # (10.8 K each at 300 K) below the bath, where a warm start would almost never be.
+    assert float(heating[0]['NVE']) < 300-5*10.8 and float(heating[0]['Nose-Hoover 5 ps']) < 300-5*10.8
     assert float(heating[-1]['RigidLangevin 0.1 P']) > 250  # 0.1 P relaxes the temperature within femtoseconds
     assert (tmp_path/'heating.png').stat().st_size > 10000
