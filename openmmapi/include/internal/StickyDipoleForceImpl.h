@@ -17,6 +17,15 @@ public:
     explicit StickyDipoleForceImpl(const StickyDipoleForce& owner) : owner(owner) {
     }
     void initialize(OpenMM::ContextImpl& context);
+    /** The number of values parameterValues() gives. */
+    static const int NumParameterValues = 10;
+    /**
+     * A site's parameters as the kernels lay them out: sigma, epsilon, dipole, nu0, rL, rU, nu0',
+     * rL', rU', w0 (the GPU pair term and the CPU lanes index them in this order).
+     */
+    static std::vector<double> parameterValues(const StickyDipoleForce::SiteParameters& p) {
+        return {p.sigma, p.epsilon, p.dipole, p.nu0, p.rL, p.rU, p.nu0Prime, p.rLPrime, p.rUPrime, p.w0};
+    }
     const StickyDipoleForce& getOwner() const {
         return owner;
     }

@@ -1,5 +1,6 @@
 #include "CommonCalcStickyDipoleForceKernel.h"
 #include "CommonRigidLangevinKernelSources.h"
+#include "internal/StickyDipoleForceImpl.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ComputeForceInfo.h"
 #include "openmm/common/ContextSelector.h"
@@ -13,14 +14,6 @@ using namespace RigidLangevinPlugin;
 using namespace OpenMM;
 using std::string;
 using std::vector;
-
-namespace {
-
-vector<double> typeValues(const StickyDipoleForce::SiteParameters& p) {
-    return {p.sigma, p.epsilon, p.dipole, p.nu0, p.rL, p.rU, p.nu0Prime, p.rLPrime, p.rUPrime, p.w0};
-}
-
-} // namespace
 
 /** Tells OpenMM's atom reordering which molecules it may swap: those whose sites have the same parameters. */
 class CommonCalcStickyDipoleForceKernel::ForceInfo : public ComputeForceInfo {
@@ -67,7 +60,7 @@ private:
         int particle, reference1, reference2;
         StickyDipoleForce::SiteParameters parameters;
         force.getSiteParameters(site, particle, reference1, reference2, parameters);
-        return typeValues(parameters);
+        return StickyDipoleForceImpl::parameterValues(parameters);
     }
     const StickyDipoleForce& force;
     std::map<int, int> siteOfParticle;
@@ -126,7 +119,7 @@ void CommonCalcStickyDipoleForceKernel::initialize(const System& system, const S
     for (int i = 0; i < numSites; i++) {
         StickyDipoleForce::SiteParameters parameters;
         force.getSiteParameters(i, siteParticles[i], references1[i], references2[i], parameters);
-        vector<double> values = typeValues(parameters);
+        vector<double> values = StickyDipoleForceImpl::parameterValues(parameters);
         auto found = std::find(types.begin(), types.end(), values);
         siteTypes[i] = found-types.begin();
         if (found == types.end()) {
@@ -185,7 +178,7 @@ void CommonCalcStickyDipoleForceKernel::initialize(const System& system, const S
     replacements["SITE_Y2"] = prefix+"y2";
     replacements["TYPE_PARAMS"] = prefix+"types";
     replacements["GRADIENTS"] = prefix+"gradients";
-    replacements["TYPE_STRIDE"] = cc.intToString(TypeStride);
+    replacements["TYPE_STRIDE"] = cc.intToString(StickyDipoleForceImpl::NumParameterValues);
     replacements["IS_EXCLUDED"] = (useExclusions ? "isExcluded" : "false");
     replacements["USE_SWITCH"] = (useCutoff && force.getUseSwitchingFunction() ? "1" : "0");
     replacements["SWITCH_LOWER"] = "("+cc.doubleToString(force.getSwitchingDistance())+")";

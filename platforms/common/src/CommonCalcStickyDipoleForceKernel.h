@@ -31,8 +31,6 @@ public:
     CommonCalcStickyDipoleForceKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc);
     void initialize(const OpenMM::System& system, const StickyDipoleForce& force);
     double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy);
-    /** The number of parameters of a site type in the interaction's table. */
-    static const int TypeStride = 10;
 private:
     class ForceInfo;
     class AtomOrderListener;
@@ -45,7 +43,7 @@ private:
     bool periodic;
     OpenMM::ComputeArray siteAtoms;     // int4 per site: where the site, reference 1 and 2 are stored; 1 + type
     OpenMM::ComputeArray xAxis, yAxis;  // real4 per atom: the site frames' axes
-    OpenMM::ComputeArray typeParams;    // TypeStride reals per site type
+    OpenMM::ComputeArray typeParams;    // StickyDipoleForceImpl::NumParameterValues reals per site type
     OpenMM::ComputeArray gradients;     // 6 fixed-point values per atom: force on the site, rotation derivative
     OpenMM::ComputeKernel framesKernel, applyKernel;
 };

@@ -1,10 +1,10 @@
 #include "CpuRigidLangevinKernels.h"
 #include "CpuStickyDipolePairs.h"
+#include "internal/StickyDipoleForceImpl.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/OSRngSeed.h"
 #include <algorithm>
 #include <cstdint>
-#include <cstring>
 #include <istream>
 #include <ostream>
 
@@ -96,16 +96,14 @@ double CpuCalcStickyDipoleForceKernel::computePairs(long long begin, long long e
             target[c][lane] = v[c];
     };
     auto putParameters = [] (double (*target)[lanes], int lane, const StickyDipoleForce::SiteParameters& p) {
-        const double values[] = {p.sigma, p.epsilon, p.dipole, p.nu0, p.rL, p.rU, p.nu0Prime, p.rLPrime, p.rUPrime, p.w0};
-        for (int k = 0; k < 10; k++)
+        std::vector<double> values = StickyDipoleForceImpl::parameterValues(p);
+        for (int k = 0; k < StickyDipoleForceImpl::NumParameterValues; k++)
             target[k][lane] = values[k];
     };
     StickyPairBlock block;
     StickyPairResults results;
     // Where all sites share their parameters (a neat liquid), every lane has the same: fill them once.
-    bool uniform = true;
-    for (int i = 1; i < (int) parameters.size() && uniform; i++)
-        uniform = (std::memcmp(&parameters[i], &parameters[0], sizeof(parameters[0])) == 0);
+    bool uniform = sharedParameters;
     if (uniform)
         for (int lane = 0; lane < lanes; lane++) {
             putParameters(block.pi, lane, parameters[0]);
@@ -143,4 +141,11 @@ double CpuCalcStickyDipoleForceKernel::computePairs(long long begin, long long e
         }
     }
     return energy;
+}
+
+void CpuCalcStickyDipoleForceKernel::initialize(const System& system, const StickyDipoleForce& force) {
+    HostCalcStickyDipoleForceKernel::initialize(system, force);
+    sharedParameters = true;
+    for (int i = 1; i < (int) parameters.size() && sharedParameters; i++)
+        sharedParameters = (StickyDipoleForceImpl::parameterValues(parameters[i]) == StickyDipoleForceImpl::parameterValues(parameters[0]));
 }

@@ -49,8 +49,9 @@ class CpuCalcStickyDipoleForceKernel : public HostCalcStickyDipoleForceKernel {
 public:
     CpuCalcStickyDipoleForceKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ReferencePlatform::PlatformData& data,
                                    OpenMM::CpuPlatform::PlatformData& cpuData) :
-            HostCalcStickyDipoleForceKernel(name, platform, data), threads(cpuData.threads) {
+            HostCalcStickyDipoleForceKernel(name, platform, data), threads(cpuData.threads), sharedParameters(false) {
     }
+    void initialize(const OpenMM::System& system, const StickyDipoleForce& force);
 protected:
     double computePairs(long long begin, long long end, const std::vector<OpenMM::Vec3>& sitePositions, const std::vector<SiteFrame>& frames,
                         const OpenMM::Vec3* box, std::vector<OpenMM::Vec3>& siteForces, std::vector<OpenMM::Vec3>& torques);
@@ -63,6 +64,7 @@ protected:
     }
 private:
     OpenMM::ThreadPool& threads;
+    bool sharedParameters;  // whether all sites have the same parameters
 };
 
 } // namespace RigidLangevinPlugin
