@@ -367,6 +367,9 @@ public:
 %pythonappend ResistanceTensor::roughShellBeads %{
     val = _units.vectors_in_nm(val)
 %}
+%pythonappend ResistanceTensor::spheroidRoughShellBeads %{
+    val = _units.vectors_in_nm(val)
+%}
 %pythonprepend ResistanceTensor::rotated %{
     rotation = _units.rotation_values(rotation)
 %}
@@ -386,6 +389,12 @@ public:
     static std::vector<Vec3> roughShellBeads(const std::vector<Vec3>& positions, const std::vector<double>& radii, double beadRadius);
     static ResistanceTensor shellExtrapolated(const std::vector<Vec3>& positions, const std::vector<double>& radii,
                                               int maxBeads = 2000, int numResolutions = 6);
+    static ResistanceTensor spheroidRoughShell(const std::vector<Vec3>& centers, const std::vector<Vec3>& axes, const std::vector<double>& a,
+                                               const std::vector<double>& b, double beadRadius);
+    static std::vector<Vec3> spheroidRoughShellBeads(const std::vector<Vec3>& centers, const std::vector<Vec3>& axes, const std::vector<double>& a,
+                                                     const std::vector<double>& b, double beadRadius);
+    static ResistanceTensor spheroidShellExtrapolated(const std::vector<Vec3>& centers, const std::vector<Vec3>& axes, const std::vector<double>& a,
+                                                      const std::vector<double>& b, int maxBeads = 2000, int numResolutions = 6);
     static ResistanceTensor freeDrainingBeads(const std::vector<Vec3>& positions, const std::vector<double>& radii);
     const Vec3& getOrigin() const;
     std::vector<double> getMatrix(const Vec3& origin) const;

@@ -102,6 +102,28 @@ public:
     static ResistanceTensor shellExtrapolated(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii,
                                               int maxBeads = 2000, int numResolutions = 6);
     /**
+     * A rough shell model of a union of spheroids (the ellipsoids of a Gay-Berne body, say; sphere
+     * unions are roughShell()): spheroid i centred at centers[i] (nm) with semi-axis a[i] along the
+     * direction axes[i] (any nonzero length) and semi-axis b[i] across it. Its surface is tiled as
+     * in roughShell() (each spheroid in rings about its axis; beads inside another spheroid or on
+     * a seam dropped) with beads of radius beadRadius and solved as in beads(). Its origin is the
+     * centroid of the centres.
+     */
+    static ResistanceTensor spheroidRoughShell(const std::vector<OpenMM::Vec3>& centers, const std::vector<OpenMM::Vec3>& axes,
+                                               const std::vector<double>& a, const std::vector<double>& b, double beadRadius);
+    /** The bead centres of spheroidRoughShell(centers, axes, a, b, beadRadius); every bead has radius beadRadius. */
+    static std::vector<OpenMM::Vec3> spheroidRoughShellBeads(const std::vector<OpenMM::Vec3>& centers, const std::vector<OpenMM::Vec3>& axes,
+                                                             const std::vector<double>& a, const std::vector<double>& b, double beadRadius);
+    /**
+     * The resistance of the union of spheroids itself: spheroidRoughShell() at numResolutions bead
+     * radii extrapolated to zero bead size exactly as shellExtrapolated() does for spheres. Its
+     * origin is the centroid of the centres. Throws if a spheroid is invalid or if the extrapolated
+     * tensor is not positive definite.
+     */
+    static ResistanceTensor spheroidShellExtrapolated(const std::vector<OpenMM::Vec3>& centers, const std::vector<OpenMM::Vec3>& axes,
+                                                      const std::vector<double>& a, const std::vector<double>& b, int maxBeads = 2000,
+                                                      int numResolutions = 6);
+    /**
      * A free-draining bead model: each bead feels Stokes friction 6 pi r_i of its own velocity, with
      * no hydrodynamic interaction between beads. Beads of zero radius are skipped. The origin is
      * the first bead's position.

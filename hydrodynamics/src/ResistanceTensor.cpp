@@ -165,6 +165,39 @@ ResistanceTensor ResistanceTensor::shellExtrapolated(const vector<Vec3>& positio
     return t;
 }
 
+vector<Vec3> ResistanceTensor::spheroidRoughShellBeads(const vector<Vec3>& centers, const vector<Vec3>& axes, const vector<double>& a,
+                                                      const vector<double>& b, double beadRadius) {
+    return ShellModel::tileSpheroidUnion("ResistanceTensor::spheroidRoughShellBeads", centers, axes, a, b, beadRadius);
+}
+
+ResistanceTensor ResistanceTensor::spheroidRoughShell(const vector<Vec3>& centers, const vector<Vec3>& axes, const vector<double>& a,
+                                                      const vector<double>& b, double beadRadius) {
+    const std::string caller = "ResistanceTensor::spheroidRoughShell";
+    vector<Vec3> shell = ShellModel::tileSpheroidUnion(caller, centers, axes, a, b, beadRadius);
+    ResistanceTensor t;
+    t.origin = centroid(centers);
+    fromMatrix6(BeadHydrodynamics::resistance(caller, shell, vector<double>(shell.size(), beadRadius), t.origin), t.values);
+    return t;
+}
+
+ResistanceTensor ResistanceTensor::spheroidShellExtrapolated(const vector<Vec3>& centers, const vector<Vec3>& axes, const vector<double>& a,
+                                                             const vector<double>& b, int maxBeads, int numResolutions) {
+    const std::string caller = "ResistanceTensor::spheroidShellExtrapolated";
+    ShellModel::validateSpheroids(caller, centers, axes, a, b);
+    ShellModel::Tiling tiling = [&](double sigma) { return ShellModel::tileSpheroidUnion(caller, centers, axes, a, b, sigma); };
+    double area = 0;  // spheres of the larger semi-axis: at least the union's area, a fine first guess
+    for (int i = 0; i < (int) centers.size(); i++)
+        area += 4*M_PI*std::max(a[i], b[i])*std::max(a[i], b[i]);
+    ResistanceTensor t;
+    t.origin = centroid(centers);
+    Matrix6 xi = ShellModel::extrapolated(caller, tiling, area, t.origin, maxBeads, numResolutions);
+    if (Eigen::LLT<Matrix6>(xi).info() != Eigen::Success)
+        throw OpenMMException(caller+": the tensor extrapolated to zero bead size is not positive definite: shells of at most "+std::to_string(maxBeads)+
+                " beads are too coarse for these spheroids; raise maxBeads");
+    fromMatrix6(xi, t.values);
+    return t;
+}
+
 ResistanceTensor ResistanceTensor::freeDrainingBeads(const vector<Vec3>& positions, const vector<double>& radii) {
     if (positions.size() != radii.size())
         throw OpenMMException("ResistanceTensor::freeDrainingBeads: got "+std::to_string(positions.size())+" positions but "+std::to_string(radii.size())+" radii");

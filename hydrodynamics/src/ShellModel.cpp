@@ -1,6 +1,7 @@
 #include "internal/ShellModel.h"
 #include "internal/BeadHydrodynamics.h"
 #include "openmm/OpenMMException.h"
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -137,34 +138,76 @@ void ShellModel::validateSpheres(const string& caller, const vector<Vec3>& cente
     }
 }
 
-vector<Vec3> ShellModel::tileSphereUnion(const vector<Vec3>& centers, const vector<double>& radii, double beadRadius) {
-    const string caller = "ShellModel::tileSphereUnion";
+void ShellModel::validateSpheroids(const string& caller, const vector<Vec3>& centers, const vector<Vec3>& axes, const vector<double>& a,
+                                   const vector<double>& b) {
+    if (centers.empty())
+        throw OpenMMException(caller+": there are no spheroids to cover; give at least one");
+    if (axes.size() != centers.size() || a.size() != centers.size() || b.size() != centers.size())
+        throw OpenMMException(caller+": got "+std::to_string(centers.size())+" centres, "+std::to_string(axes.size())+" axes, "+std::to_string(a.size())+
+                " and "+std::to_string(b.size())+" semi-axes; give one axis and two semi-axes per spheroid");
+    for (int i = 0; i < (int) centers.size(); i++) {
+        if (!std::isfinite(centers[i][0]) || !std::isfinite(centers[i][1]) || !std::isfinite(centers[i][2]))
+            throw OpenMMException(caller+": spheroid "+std::to_string(i)+" has a centre coordinate that is not a finite number");
+        double length = std::sqrt(axes[i].dot(axes[i]));
+        if (!(length > 0) || !std::isfinite(length))
+            throw OpenMMException(caller+": spheroid "+std::to_string(i)+" has an axis of length "+std::to_string(length)+"; give a finite nonzero vector");
+        if (!(a[i] > 0) || !(b[i] > 0) || !std::isfinite(a[i]) || !std::isfinite(b[i]))
+            throw OpenMMException(caller+": spheroid "+std::to_string(i)+" has semi-axes "+std::to_string(a[i])+" and "+std::to_string(b[i])+
+                    "; they must be positive and finite (nm)");
+    }
+}
+
+Eigen::Matrix3d ShellModel::spheroidFrame(const Vec3& axis) {
+    Eigen::Vector3d u = toEigen(axis).normalized();
+    // The lab axis least parallel to u, ties to the first: for u along x that is y, and the frame is the lab's.
+    int least = 0;
+    for (int k = 1; k < 3; k++)
+        if (std::abs(u[k]) < std::abs(u[least]))
+            least = k;
+    Eigen::Vector3d v = Eigen::Vector3d::Unit(least);
+    v = (v-v.dot(u)*u).normalized();
+    Eigen::Matrix3d frame;
+    frame.col(0) = u;
+    frame.col(1) = v;
+    frame.col(2) = u.cross(v);
+    return frame;
+}
+
+vector<Vec3> ShellModel::tileSpheroidUnion(const string& caller, const vector<Vec3>& centers, const vector<Vec3>& axes, const vector<double>& a,
+                                           const vector<double>& b, double beadRadius) {
     checkBeadRadius(caller, beadRadius);
-    validateSpheres(caller, centers, radii);
-    const int numSpheres = centers.size();
-    // Only spheres that intersect sphere i can bury its beads.
-    vector<vector<int> > neighbors(numSpheres);
-    for (int i = 0; i < numSpheres; i++)
-        for (int j = i+1; j < numSpheres; j++) {
+    validateSpheroids(caller, centers, axes, a, b);
+    const int numSpheroids = centers.size();
+    vector<Eigen::Matrix3d> frames(numSpheroids);
+    for (int i = 0; i < numSpheroids; i++)
+        frames[i] = spheroidFrame(axes[i]);
+    // Only spheroids whose bounding spheres intersect that of spheroid i can bury its beads.
+    vector<vector<int> > neighbors(numSpheroids);
+    for (int i = 0; i < numSpheroids; i++)
+        for (int j = i+1; j < numSpheroids; j++) {
             Vec3 d = centers[i]-centers[j];
-            if (std::sqrt(d.dot(d)) < radii[i]+radii[j]) {
+            if (std::sqrt(d.dot(d)) < std::max(a[i], b[i])+std::max(a[j], b[j])) {
                 neighbors[i].push_back(j);
                 neighbors[j].push_back(i);
             }
         }
+    auto inside = [&](int j, const Eigen::Vector3d& p) {
+        Eigen::Vector3d local = frames[j].transpose()*(p-toEigen(centers[j]));
+        double x = local[0]/a[j], y = local[1]/b[j], z = local[2]/b[j];
+        return x*x+y*y+z*z < 1-1e-9;
+    };
     vector<Vec3> beads;
     BeadGrid grid(0.5*BEAD_SPACING*beadRadius);
-    for (int i = 0; i < numSpheres; i++) {
-        for (const Vec3& offset : tileSpheroid(radii[i], radii[i], beadRadius)) {
-            Vec3 p = centers[i]+offset;
+    for (int i = 0; i < numSpheroids; i++) {
+        for (const Vec3& offset : tileSpheroid(a[i], b[i], beadRadius)) {
+            Eigen::Vector3d q = toEigen(centers[i])+frames[i]*toEigen(offset);
+            Vec3 p(q[0], q[1], q[2]);
             bool buried = false;
-            for (int j : neighbors[i]) {
-                Vec3 d = p-centers[j];
-                if (d.dot(d) < radii[j]*radii[j]*(1-1e-9)) {
+            for (int j : neighbors[i])
+                if (inside(j, q)) {
                     buried = true;
                     break;
                 }
-            }
             if (buried || grid.hasBeadWithin(p, 0.5*BEAD_SPACING*beadRadius))
                 continue;
             grid.add(p);
@@ -174,6 +217,12 @@ vector<Vec3> ShellModel::tileSphereUnion(const vector<Vec3>& centers, const vect
     if (beads.empty())
         throw OpenMMException(caller+": no bead is left on the surface; use a smaller bead radius");
     return beads;
+}
+
+vector<Vec3> ShellModel::tileSphereUnion(const vector<Vec3>& centers, const vector<double>& radii, double beadRadius) {
+    const string caller = "ShellModel::tileSphereUnion";
+    validateSpheres(caller, centers, radii);
+    return tileSpheroidUnion(caller, centers, vector<Vec3>(centers.size(), Vec3(1, 0, 0)), radii, radii, beadRadius);
 }
 
 Matrix6 ShellModel::extrapolateToZeroBeadSize(const vector<double>& beadRadii, const vector<Matrix6>& tensors) {

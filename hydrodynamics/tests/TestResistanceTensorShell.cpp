@@ -168,3 +168,93 @@ TEST(ShellModel, RejectsBadInput) {
     expectThrowMentioning([&] { ResistanceTensor::shellExtrapolated(centres, radii, 10); }, {"maxBeads"});
     expectThrowMentioning([&] { ResistanceTensor::shellExtrapolated(centres, radii, 500, 1); }, {"numResolutions"});
 }
+
+namespace {
+
+/** (x/a)^2 + (rho/b)^2 of point p in the spheroid at centre with unit axis u. */
+double spheroidLevel(const Vec3& p, const Vec3& centre, const Vec3& u, double a, double b) {
+    Vec3 d = p-centre;
+    double x = d.dot(u), rho2 = d.dot(d)-x*x;
+    return x*x/(a*a)+rho2/(b*b);
+}
+
+Vec3 unit(const Vec3& v) {
+    return v*(1/std::sqrt(v.dot(v)));
+}
+
+} // namespace
+
+TEST(ShellModel, SpheroidTilingLiesOnTheTurnedSurface) {
+    // A spheroid whose axis is x tiles exactly as the sphere union does when a = b; turned, its
+    // beads lie on the turned surface.
+    const double r = 0.4, sigma = 0.02;
+    Vec3 centre(0.1, -0.2, 0.3);
+    vector<Vec3> spheres = ResistanceTensor::roughShellBeads({centre}, {r}, sigma);
+    vector<Vec3> spheroids = ResistanceTensor::spheroidRoughShellBeads({centre}, {Vec3(2, 0, 0)}, {r}, {r}, sigma);
+    ASSERT_EQ(spheres.size(), spheroids.size());
+    for (int i = 0; i < (int) spheres.size(); i++)
+        EXPECT_EQ(0.0, distance(spheres[i], spheroids[i]));
+    const double a = 0.9, b = 0.3;
+    Vec3 axis = unit(Vec3(0.3, -0.5, 0.8));
+    vector<Vec3> beads = ResistanceTensor::spheroidRoughShellBeads({centre}, {axis*3.0}, {a}, {b}, sigma);
+    EXPECT_EQ(ShellModel::tileSpheroid(a, b, sigma).size(), beads.size());
+    for (const Vec3& p : beads)
+        ASSERT_NEAR(1.0, spheroidLevel(p, centre, axis, a, b), 1e-12);
+}
+
+TEST(ShellModel, SpheroidUnionTilingCoversOnlyTheOuterSurface) {
+    // Two prolate spheroids crossing at 60 degrees: every bead on one surface and outside the other,
+    // none closer than half the spacing (1.5 sigma) to another, and fewer beads than the two apart.
+    const double a = 1.0, b = 0.3, sigma = 0.02;
+    vector<Vec3> centres = {Vec3(0, 0, 0), Vec3(0.5, 0.4, 0)};
+    vector<Vec3> axes = {Vec3(1, 0, 0), Vec3(0.5, std::sqrt(3.0)/2, 0)};
+    vector<Vec3> beads = ResistanceTensor::spheroidRoughShellBeads(centres, axes, {a, a}, {b, b}, sigma);
+    EXPECT_LT(beads.size(), 2*ShellModel::tileSpheroid(a, b, sigma).size());
+    for (const Vec3& p : beads) {
+        double first = spheroidLevel(p, centres[0], axes[0], a, b), second = spheroidLevel(p, centres[1], axes[1], a, b);
+        ASSERT_TRUE(std::abs(first-1) < 1e-12 || std::abs(second-1) < 1e-12);
+        ASSERT_GT(first, 1-1e-9);
+        ASSERT_GT(second, 1-1e-9);
+    }
+    EXPECT_GE(smallestSeparation(beads), 1.5*sigma*(1-1e-12));
+}
+
+TEST(ShellModel, TurnedSpheroidExtrapolatesToTurnedPerrin) {
+    // One prolate spheroid of axial ratio 3 along a general direction, through the union's
+    // extrapolation: Perrin's principal friction turned into the lab frame, about its centre.
+    const double a = 0.9, b = 0.3;
+    Vec3 centre(0.2, 0.1, -0.3), axis = unit(Vec3(1, 2, -2));
+    ResistanceTensor t = ResistanceTensor::spheroidShellExtrapolated({centre}, {axis}, {a}, {b}, MAX_BEADS);
+    Eigen::Matrix3d frame = ShellModel::spheroidFrame(axis);
+    PerrinFriction::PrincipalFriction f = PerrinFriction::spheroid(a, b);
+    Matrix6 principal = Matrix6::Zero();
+    for (int k = 0; k < 3; k++) {
+        principal(k, k) = f.translation[k];
+        principal(k+3, k+3) = f.rotation[k];
+    }
+    Matrix6 turn = Matrix6::Zero();
+    turn.block<3, 3>(0, 0) = frame;
+    turn.block<3, 3>(3, 3) = frame;
+    Matrix6 expected = turn*principal*turn.transpose();
+    Matrix6 xi = toMatrix6(t.getMatrix(centre));
+    for (int block = 0; block < 2; block++) {
+        Eigen::Matrix3d want = expected.block(3*block, 3*block, 3, 3), got = xi.block(3*block, 3*block, 3, 3);
+        EXPECT_LT((got-want).cwiseAbs().maxCoeff(), TOLERANCE*want.cwiseAbs().maxCoeff()) << (block == 0 ? "translation" : "rotation");
+    }
+    // No coupling about the centre of a spheroid.
+    Eigen::Matrix3d coupling = xi.block(0, 3, 3, 3);
+    EXPECT_LT(coupling.cwiseAbs().maxCoeff(), TOLERANCE*expected(0, 0)*b);
+}
+
+TEST(ShellModel, SpheroidUnionRejectsBadInput) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    vector<Vec3> centres = {Vec3(0, 0, 0), Vec3(0.3, 0, 0)}, axes = {Vec3(1, 0, 0), Vec3(0, 1, 0)};
+    vector<double> a = {0.5, 0.5}, b = {0.2, 0.2};
+    expectThrowMentioning([&] { ResistanceTensor::spheroidRoughShell(centres, {Vec3(1, 0, 0), Vec3()}, a, b, 0.02); },
+                          {"spheroidRoughShell", "spheroid 1", "axis"});
+    expectThrowMentioning([&] { ResistanceTensor::spheroidRoughShellBeads(centres, axes, a, {0.2, -1.0}, 0.02); }, {"spheroid 1", "semi-axes"});
+    expectThrowMentioning([&] { ResistanceTensor::spheroidShellExtrapolated(centres, axes, {0.5}, b); }, {"one axis and two semi-axes"});
+    expectThrowMentioning([&] { ResistanceTensor::spheroidShellExtrapolated({Vec3(nan, 0, 0), Vec3()}, axes, a, b); }, {"spheroid 0", "centre"});
+    expectThrowMentioning([&] { ResistanceTensor::spheroidRoughShell(centres, axes, a, b, 0.0); }, {"bead radius"});
+    expectThrowMentioning([&] { ResistanceTensor::spheroidShellExtrapolated({}, {}, {}, {}); }, {"no spheroids"});
+}

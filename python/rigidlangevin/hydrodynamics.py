@@ -15,6 +15,7 @@ sequence or a Quantity.
     xi = hydro.shellExtrapolated(atom_positions, atom_radii)         # the union of the atoms' spheres
     xi = hydro.beads(atom_positions, atom_radii, hydro.unionVolume(atom_positions, atom_radii))
     xi = hydro.ellipsoid(0.4, 0.2, 0.1)                               # Perrin, semi-axes along x, y, z
+    xi = hydro.spheroidShellExtrapolated(centers, axes, a, b)          # a union of spheroids (Gay-Berne bodies)
 """
 import numpy as np
 import openmm as mm
@@ -23,7 +24,8 @@ import openmm.unit as unit
 from .core import ResistanceTensor
 
 __all__ = ['ResistanceTensor', 'sphere', 'ellipsoid', 'spheroid', 'beads', 'beadVolume', 'unionVolume', 'roughShell',
-           'roughShellBeads', 'shellExtrapolated', 'freeDrainingBeads', 'explicit']
+           'roughShellBeads', 'shellExtrapolated', 'spheroidRoughShell', 'spheroidRoughShellBeads', 'spheroidShellExtrapolated',
+           'freeDrainingBeads', 'explicit']
 
 
 def _length(value):
@@ -94,6 +96,32 @@ def roughShellBeads(positions, radii, beadRadius):
 def shellExtrapolated(positions, radii, maxBeads=2000, numResolutions=6):
     """Rough shells at several resolutions extrapolated to zero bead size, as HYDRO++ does."""
     return ResistanceTensor.shellExtrapolated(_vectors(positions), _lengths(radii), int(maxBeads), int(numResolutions))
+
+
+def _spheroids(centers, axes, a, b):
+    centers = _vectors(centers)
+    def per_spheroid(values):
+        if unit.is_quantity(values):
+            values = values.value_in_unit(unit.nanometer)
+        values = np.atleast_1d(np.asarray(values, dtype=float))
+        return list(values)*len(centers) if len(values) == 1 else list(values)
+    return centers, _vectors(axes), per_spheroid(a), per_spheroid(b)
+
+
+def spheroidRoughShell(centers, axes, a, b, beadRadius):
+    """A rough shell model of a union of spheroids: spheroid i at centers[i] with semi-axis a[i] along
+    axes[i] and b[i] across it (a and b may be single values shared by all)."""
+    return ResistanceTensor.spheroidRoughShell(*_spheroids(centers, axes, a, b), _length(beadRadius))
+
+
+def spheroidRoughShellBeads(centers, axes, a, b, beadRadius):
+    """The bead centres of spheroidRoughShell(), as an (N, 3) Quantity in nm."""
+    return ResistanceTensor.spheroidRoughShellBeads(*_spheroids(centers, axes, a, b), _length(beadRadius))
+
+
+def spheroidShellExtrapolated(centers, axes, a, b, maxBeads=2000, numResolutions=6):
+    """Rough shells of a union of spheroids at several resolutions extrapolated to zero bead size."""
+    return ResistanceTensor.spheroidShellExtrapolated(*_spheroids(centers, axes, a, b), int(maxBeads), int(numResolutions))
 
 
 def freeDrainingBeads(positions, radii):

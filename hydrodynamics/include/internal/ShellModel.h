@@ -39,6 +39,34 @@ OPENMM_EXPORT_HYDRODYNAMICS void validateSpheres(const std::string& caller, cons
                                                  const std::vector<double>& radii);
 
 /**
+ * Bead centres on the surface of the union of spheroids (Gay-Berne ellipsoids, say): spheroid i
+ * centred at centers[i] with semi-axis a[i] along the unit vector axes[i] and b[i] across it,
+ * each tiled as by tileSpheroid (turned so that its x axis lies along axes[i]; the azimuth of its
+ * rings is fixed by spheroidFrame), less the beads strictly inside another spheroid and those
+ * closer than half the spacing to a bead already placed (along the seams). Throws if the input is
+ * invalid or no bead is left.
+ */
+OPENMM_EXPORT_HYDRODYNAMICS std::vector<OpenMM::Vec3> tileSpheroidUnion(const std::string& caller, const std::vector<OpenMM::Vec3>& centers,
+                                                                        const std::vector<OpenMM::Vec3>& axes, const std::vector<double>& a,
+                                                                        const std::vector<double>& b, double beadRadius);
+
+/**
+ * The frame in which tileSpheroidUnion tiles a spheroid whose symmetry axis is the unit vector
+ * axis: columns axis, v, w, right-handed, with v the lab axis least parallel to axis made
+ * orthogonal to it (for axis = x: the lab frame itself, so that spheres tile as they always did).
+ */
+OPENMM_EXPORT_HYDRODYNAMICS Eigen::Matrix3d spheroidFrame(const OpenMM::Vec3& axis);
+
+/**
+ * Throw an OpenMMException, whose message starts with caller, unless there is at least one
+ * spheroid, one axis and two semi-axes per centre, every centre finite, every axis finite and
+ * nonzero, every semi-axis positive and finite.
+ */
+OPENMM_EXPORT_HYDRODYNAMICS void validateSpheroids(const std::string& caller, const std::vector<OpenMM::Vec3>& centers,
+                                                   const std::vector<OpenMM::Vec3>& axes, const std::vector<double>& a,
+                                                   const std::vector<double>& b);
+
+/**
  * Bead centres on the surface of the union of spheres (atoms): each sphere tiled as by
  * tileSpheroid, less the beads strictly inside another sphere and those closer than half the
  * spacing to a bead already placed (which happens along the seams where spheres meet). Throws if the input
