@@ -87,3 +87,22 @@ def test_ssd_scene_quick(tmp_path):
     assert float(heating[0]['NVE']) < 300-5*10.8 and float(heating[0]['Nose-Hoover 5 ps']) < 300-5*10.8
     assert float(heating[-1]['RigidLangevin 0.1 P']) > 250  # 0.1 P relaxes the temperature within femtoseconds
     assert (tmp_path/'heating.png').stat().st_size > 10000
+
+
+def test_banana_scene_short_form(tmp_path):
+    # Every stage of the banana scene, very short: the tables and the plot appear, the tensor
+    # table carries the source's numbers beside ours, and the implicit runs are far faster than
+    # the explicit one (the point of implicit solvent).
+    result = subprocess.run([sys.executable, str(ROOT/'examples'/'banana_scene.py'), '--quick', '--ps-scale', '0.2', '--out', str(tmp_path)],
+                            capture_output=True, text=True, timeout=900)
+    assert result.returncode == 0, result.stderr
+    for name in ('tensor.md', 'pentane.md', 'diffusion.md', 'diffusion.csv', 'correlations.csv', 'correlations.png'):
+        assert (tmp_path/name).stat().st_size > 0, name
+    assert '58.64' in (tmp_path/'tensor.md').read_text()
+    rows = {row['run']: row for row in csv.DictReader(open(tmp_path/'diffusion.csv'))}
+    assert set(rows) == {'explicit', 'explicit, finite-size corrected', 'ExactFlow', 'BAOAB', 'LangevinMiddle'}
+    # The Yeh-Hummer correction only adds to the periodic box's D_t.
+    assert float(rows['explicit, finite-size corrected']['D_t (1e-5 cm^2/s)']) > float(rows['explicit']['D_t (1e-5 cm^2/s)'])
+    for name in ('ExactFlow', 'BAOAB', 'LangevinMiddle'):
+        assert float(rows[name]['ns/day']) > 5*float(rows['explicit']['ns/day'])
+        assert float(rows[name]['D_t error']) > 0
