@@ -17,5 +17,7 @@ echo "==> rigid water box"
 "$ROOT/.venv/bin/python" water_box.py 2>&1 | grep -v "Using an unsupported OpenCL implementation"
 echo "==> single-site SSD/RF water against TIP3P"
 "$ROOT/.venv/bin/python" ssd_water.py 2>&1 | grep -v "Using an unsupported OpenCL implementation"
+echo "==> interactions inside rigid bodies removed (villin, colloids)"
+"$ROOT/.venv/bin/python" internal_interactions.py 2>&1 | grep -v "Using an unsupported OpenCL implementation"
 echo "==> GPU memory bandwidth (CUDA and Nsight Compute only)"
 "$ROOT/.venv/bin/python" gpu_bandwidth.py

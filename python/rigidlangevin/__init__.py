@@ -19,10 +19,11 @@ if _BUILT_AGAINST and openmm.version.short_version.split('.')[:2] != _BUILT_AGAI
 from .core import RigidLangevinIntegrator, ResistanceTensor, StickyDipoleForce
 from ._units import poise, centipoise, md_viscosity
 from .topology import addRigidBodies
+from .internal import removeInternalInteractions
 from .reporters import RigidBodyTemperatureReporter
 from . import hydrodynamics
 from . import ssd
 from . import forcefield as _forcefield  # registers <StickyDipoleForce> with openmm.app.ForceField
 
-__all__ = ['RigidLangevinIntegrator', 'ResistanceTensor', 'StickyDipoleForce', 'poise', 'centipoise', 'md_viscosity', 'addRigidBodies',
+__all__ = ['RigidLangevinIntegrator', 'ResistanceTensor', 'StickyDipoleForce', 'poise', 'centipoise', 'md_viscosity', 'addRigidBodies', 'removeInternalInteractions',
            'RigidBodyTemperatureReporter', 'hydrodynamics', 'ssd']

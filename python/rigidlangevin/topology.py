@@ -4,6 +4,8 @@ import math
 import openmm as mm
 import openmm.unit as unit
 
+from .internal import removeInternalInteractions as _remove_internal_interactions
+
 #: Residue names OpenMM's force fields and common file formats use for water.
 WATER_NAMES = frozenset(['HOH', 'WAT', 'SOL', 'H2O', 'TIP', 'TIP3', 'TIP4', 'TIP5', 'T3P', 'T4P', 'T5P', 'SPC', 'SPCE'])
 
@@ -64,7 +66,13 @@ def _rigidify(system, particles, positions, existing):
             existing.add((min(a, b), max(a, b)))
 
 
-def addRigidBodies(integrator, topology, system, residues='water', positions=None):
+class RigidBodies(list):
+    """The indices of the bodies addRigidBodies() made; `internalInteractions` holds what
+    removeInternalInteractions() removed when asked for (else None)."""
+    internalInteractions = None
+
+
+def addRigidBodies(integrator, topology, system, residues='water', positions=None, removeInternalInteractions=False):
     """Make a rigid body of each chosen residue of a Topology.
 
     Parameters
@@ -84,10 +92,15 @@ def addRigidBodies(integrator, topology, system, residues='water', positions=Non
         If given, distance constraints that hold each body rigid are added to the System where it has
         none (as a force field's rigid water already has), so that OpenMM's energy minimizer keeps the
         bodies' shapes. The integrator ignores constraints inside a body.
+    removeInternalInteractions : bool
+        If true, remove from the System the interactions among particles of the same body (for all the
+        integrator's bodies), which the bodies make constant (rigidlangevin.removeInternalInteractions):
+        the same trajectories, at a fraction of the cost for large bodies. What was removed, and (with
+        positions) the constant energy it took away, is in the result's `internalInteractions`.
 
     Returns
     -------
-    list of int
+    RigidBodies (a list of int)
         The indices of the new bodies.
     """
     select = _selector(residues)
@@ -96,7 +109,7 @@ def addRigidBodies(integrator, topology, system, residues='water', positions=Non
     for i in range(system.getNumConstraints()):
         a, b, d = system.getConstraintParameters(i)
         existing.add((min(a, b), max(a, b)))
-    bodies = []
+    bodies = RigidBodies()
     for residue in topology.residues():
         if not select(residue):
             continue
@@ -112,4 +125,6 @@ def addRigidBodies(integrator, topology, system, residues='water', positions=Non
         bodies.append(integrator.addRigidBody(particles))
         if positions is not None:
             _rigidify(system, particles, positions, existing)
+    if removeInternalInteractions:
+        bodies.internalInteractions = _remove_internal_interactions(system, integrator, positions)
     return bodies
