@@ -1,8 +1,10 @@
 """rigidlangevin.hydrodynamics: the resistance tensors from Python, with numpy and Quantities."""
 import math
+import os
 
 import numpy as np
 import openmm as mm
+import openmm.app as app
 import openmm.unit as unit
 import pytest
 
@@ -87,3 +89,33 @@ def test_integrator_uses_models_and_shares_types():
     # 49 identical waters with the default bead model share a type; the ellipsoid one has its own.
     assert integrator.getNumBodyTypes() == 2
     integrator.step(10)
+
+
+VILLIN = os.path.join(os.path.dirname(app.__file__), 'data', 'test.pdb')
+
+
+def test_protein_preset_is_hydropros_atomic_model():
+    """hydro.protein(): the union of 2.9 A spheres on the protein's heavy atoms, extrapolated to zero
+    bead size. A lone heavy atom is then a Stokes sphere of 2.9 A; hydrogens, water and ions do not count."""
+    one = app.Topology()
+    residue = one.addResidue('GLY', one.addChain())
+    one.addAtom('CA', app.element.carbon, residue)
+    one.addAtom('HA', app.element.hydrogen, residue)
+    alone = hydro.protein(one, [mm.Vec3(1, 2, 3), mm.Vec3(1.1, 2, 3)]*unit.nanometer, maxBeads=800)
+    d_t, d_r, tau = hydro.diffusionConstants(alone, 293.15, 1.002*rl.centipoise)
+    kT = 1.380649e-23*293.15
+    assert d_t == pytest.approx(kT/(6*math.pi*1.002e-3*0.29e-9)*1e4, rel=0.01)
+    assert d_r == pytest.approx(kT/(8*math.pi*1.002e-3*0.29e-9**3), rel=0.02)
+    assert tau == pytest.approx(1e9/(6*d_r), rel=1e-12)
+
+    # Villin HP35 in OpenMM's test.pdb comes with 2 ions and 2763 waters: the default leaves them out,
+    # and a structure without hydrogens gives the same tensor.
+    pdb = app.PDBFile(VILLIN)
+    whole = hydro.protein(pdb.topology, pdb.positions, maxBeads=300, numResolutions=3)
+    modeller = app.Modeller(pdb.topology, pdb.positions)
+    modeller.delete([a for a in modeller.topology.atoms() if a.element.symbol == 'H' or a.residue.name in ('HOH', 'CL', 'NA', 'Cl', 'Na')])
+    assert modeller.topology.getNumAtoms() == 289
+    bare = hydro.protein(modeller.topology, modeller.positions, maxBeads=300, numResolutions=3)
+    np.testing.assert_allclose(bare.getMatrix(), whole.getMatrix(), rtol=1e-12, atol=0)
+    with pytest.raises(ValueError, match='no non-hydrogen atoms'):
+        hydro.protein(pdb.topology, pdb.positions, atoms=[a.index for a in pdb.topology.atoms() if a.element.symbol == 'H'][:3])

@@ -16,6 +16,7 @@ sequence or a Quantity.
     xi = hydro.beads(atom_positions, atom_radii, hydro.unionVolume(atom_positions, atom_radii))
     xi = hydro.ellipsoid(0.4, 0.2, 0.1)                               # Perrin, semi-axes along x, y, z
     xi = hydro.spheroidShellExtrapolated(centers, axes, a, b)          # a union of spheroids (Gay-Berne bodies)
+    xi = hydro.protein(topology, positions)                           # HYDROPRO's atomic-level model of a protein
 """
 import numpy as np
 import openmm as mm
@@ -25,7 +26,7 @@ from .core import ResistanceTensor
 
 __all__ = ['ResistanceTensor', 'sphere', 'ellipsoid', 'spheroid', 'beads', 'beadVolume', 'unionVolume', 'roughShell',
            'roughShellBeads', 'shellExtrapolated', 'spheroidRoughShell', 'spheroidRoughShellBeads', 'spheroidShellExtrapolated',
-           'freeDrainingBeads', 'explicit']
+           'freeDrainingBeads', 'explicit', 'protein', 'HYDROPRO_ATOMIC_RADIUS', 'diffusionConstants']
 
 
 def _length(value):
@@ -132,3 +133,42 @@ def freeDrainingBeads(positions, radii):
 def explicit(matrix, origin=(0, 0, 0)):
     """A tensor from its 6x6 matrix (per unit viscosity) about the point origin."""
     return ResistanceTensor.explicit(matrix, _point(origin))
+
+
+#: HYDROPRO's atomic element radius (AER) for atomic-level models: each non-hydrogen atom becomes a
+#: sphere of this radius, which carries the hydration shell (Ortega, Amoros & Garcia de la Torre,
+#: Biophys. J. 101, 892 (2011)).
+HYDROPRO_ATOMIC_RADIUS = 0.29*unit.nanometer
+
+
+def protein(topology, positions, atoms=None, hydratedRadius=HYDROPRO_ATOMIC_RADIUS, maxBeads=2000, numResolutions=6):
+    """A protein's resistance tensor the HYDROPRO way: every non-hydrogen atom a sphere of the hydrated
+    radius (2.9 A), the surface of their union tiled with beads at several sizes, extrapolated to zero
+    bead size (shellExtrapolated).
+
+    topology, positions: an openmm.app Topology and its positions (a PDBFile's, say). atoms: the atom
+    indices of the protein (default: every atom of a residue with an alpha carbon, which leaves out
+    water, ions and most ligands). Hydrogens are skipped whether or not the structure has them.
+    The tensor's origin is the heavy atoms' centroid, in the positions' frame: give the same positions
+    to integrator.setBodyHydrodynamics(index, tensor, positions_of_the_body).
+    """
+    if atoms is None:
+        atoms = [atom.index for residue in topology.residues() if any(a.name == 'CA' for a in residue.atoms())
+                 for atom in residue.atoms()]
+    all_atoms = list(topology.atoms())
+    heavy = [i for i in atoms if all_atoms[i].element is None or all_atoms[i].element.symbol not in ('H', 'D')]
+    if not heavy:
+        raise ValueError('protein(): no non-hydrogen atoms selected (a residue needs an atom named CA to count as protein; '
+                         'pass atoms=[...] to choose them)')
+    xyz = _vectors(positions)
+    radius = _length(hydratedRadius)
+    return shellExtrapolated([xyz[i] for i in heavy], [radius]*len(heavy), maxBeads, numResolutions)
+
+
+def diffusionConstants(tensor, temperature, viscosity):
+    """Translational D_t (cm^2/s) about the centre of diffusion and rotational D_r (1/s), each a third
+    of its block's trace, and the harmonic mean rotational relaxation time tau_h = 1/(6 D_r) (ns)."""
+    d = np.asarray(tensor.getDiffusionTensor(temperature, viscosity, tensor.getCenterOfDiffusion()))
+    d_t = np.trace(d[:3, :3])/3*1e-14/1e-12   # nm^2/ps -> cm^2/s
+    d_r = np.trace(d[3:, 3:])/3*1e12          # 1/ps -> 1/s
+    return d_t, d_r, 1e9/(6*d_r)
