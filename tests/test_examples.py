@@ -106,3 +106,19 @@ def test_banana_scene_short_form(tmp_path):
     for name in ('ExactFlow', 'BAOAB', 'LangevinMiddle'):
         assert float(rows[name]['ns/day']) > 5*float(rows['explicit']['ns/day'])
         assert float(rows[name]['D_t error']) > 0
+
+
+def test_protein_diffusion_example():
+    """villin HP35 as rigid copies: all five force-field forces removed, and the measured diffusion
+    within the t window of its 8 groups' standard error of the tensor's prediction. (The quick run's
+    standard errors are about 12%; tests/test_banana.py checks the same prediction to 1%.)"""
+    result = subprocess.run([sys.executable, str(ROOT/'examples'/'protein_diffusion.py'), '--quick'], capture_output=True, text=True, timeout=600)
+    assert result.returncode == 0, result.stderr
+    line = next(l for l in result.stdout.splitlines() if l.startswith('test.pdb'))
+    values = line.replace('+-', ' ').split()
+    removed, predicted_t, measured_t, error_t, predicted_r, measured_r, error_r = (float(values[i]) for i in (1, 3, 4, 5, 6, 7, 8))
+    assert removed == 5
+    window = agreement_threshold(7)
+    for predicted, measured, error, what in ((predicted_t, measured_t, error_t, 'D_t'), (predicted_r, measured_r, error_r, 'D_r')):
+        assert abs(measured-predicted) < window*error, f'{what}: {measured} +- {error} against {predicted}'
+        assert error < 0.25*predicted, f'{what}: standard error {error} is too large to mean anything'
