@@ -67,3 +67,47 @@ def test_speed_vs_error_verdicts_separate_noise_from_error():
     stability = report.targets([], [{'viscosity (P)': '0.1', 'integrator': 'ExactFlow', 'largest stable step (fs)': '1.0'},
                                     {'viscosity (P)': '0.1', 'integrator': 'Original', 'largest stable step (fs)': '0.6'}])
     assert 'at least twice: NOT met' in stability
+
+
+
+def test_configurational_temperature_verdict_pairs_runs_by_start(tmp_path):
+    """The 1 P configurational-temperature table: 32 starts whose own spread (6 K) dominates give a
+    standard error over replicas of 6/sqrt(32) K, which resolves 1 %; a 1 % bias of one run stands
+    out start by start against the peer run from the same starts (20 and more standard errors of
+    the paired difference); a run equal to the peer plus noise does not."""
+    sys.path.insert(0, str(ROOT/'benchmarks'/'speed_vs_error'))
+    import report
+    rng = np.random.default_rng(3)
+    starts = 300.0+6.0*rng.standard_normal(32)
+    records, values = [], {}
+    for name, step, bias in [('ExactFlow', 1.0, 0.0), ('ExactFlow', 4.0, 3.0), ('BAOAB', 4.0, 0.0)]:
+        values[name, step] = starts+bias+0.3*rng.standard_normal(32)
+        records += [{'integrator': name, 'step (fs)': step, 'replica': r, 'status': 'ok', 'T configurational (K)': v,
+                     'potential per molecule (kJ/mol)': -40.0+0.01*v} for r, v in enumerate(values[name, step])]
+    mean, se, difference, se_difference = report.paired(values['ExactFlow', 4.0], values['ExactFlow', 1.0])
+    assert abs(se-6.0/np.sqrt(32)) < 0.2*se and se_difference < 0.1  # 0.3 K * sqrt(2) / sqrt(32) = 0.075 K
+    assert abs(difference-3.0) < 4*se_difference
+    report.write_configurational(tmp_path, records, 300.0, peer=('ExactFlow', 1.0))
+    lines = {line.split(':')[0]: line for line in (tmp_path/'configurational.md').read_text().splitlines() if line.startswith('- ')}
+    assert all('resolves 1 %' in line for line in lines.values())
+    assert float(lines['- ExactFlow 4.0 fs'].split('; ')[-1].split()[0]) > 20
+    assert float(lines['- BAOAB 4.0 fs'].split('; ')[-1].split()[0]) < 4
+    with open(tmp_path/'configurational.csv') as f:
+        assert len(list(csv.DictReader(f))) == 96
+
+
+def test_traffic_model_bounds_and_matches_the_h100_profile():
+    """benchmarks/platforms/traffic.py: every kernel moves at least the minimum; the model of the
+    particle placement and of the random numbers agrees with the H100's measured DRAM bytes within
+    15 % (the step kernel's measured excess over the model is what the table reports)."""
+    sys.path.insert(0, str(ROOT/'benchmarks'/'platforms'))
+    import traffic
+    for precision in traffic.PRECISIONS:
+        for n in traffic.PARTICLES:
+            assert sum(traffic.common_current(n, precision).values()) > traffic.common_minimum(n, precision)[0]
+    for n in traffic.PARTICLES:
+        assert traffic.cpu_current(n) > traffic.cpu_minimum(n)[0]
+    profile = {row['kernel']: float(row['bytes_per_body_step']) for row in traffic.read_csv('gpu_h100/gpu_bandwidth.csv')}
+    model = traffic.common_current(3, 'mixed')
+    assert abs(profile['placeBodyAtoms']/model['placeBodyAtoms']-1) < 0.15
+    assert abs(profile['generateRandomNumbers']/model['generateRandomNumbers']-1) < 0.15

@@ -172,3 +172,56 @@ def plot(out, rows):
         name = scene.split()[0].lower()
         fig.savefig(out/f'error_vs_speed_{name}_{viscosity}P.png', dpi=100)
         plt.close(fig)
+
+
+def paired(values, peers):
+    """Mean and standard error of `values` (one per replica), and of their differences from `peers`
+    run from the same starts: the difference is free of the starts' spread."""
+    values, peers = np.asarray(values, float), np.asarray(peers, float)
+    n = len(values)
+    difference = values-peers
+    se = (lambda x: float(np.std(x, ddof=1)/math.sqrt(n)) if n > 1 else float('nan'))
+    return float(values.mean()), se(values), float(difference.mean()), se(difference)
+
+
+def write_configurational(out, records, exact, peer):
+    """configurational.csv (one line per run) and configurational.md: the configurational
+    temperature of each (integrator, step) against its exact value and, start by start, against the
+    peer (integrator, step); likewise the potential energy per molecule against the peer."""
+    out.mkdir(parents=True, exist_ok=True)
+    with open(out/'configurational.csv', 'w', newline='') as f:
+        fields = []
+        for r in records:
+            fields += [k for k in r if k not in fields]
+        writer = csv.DictWriter(f, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(records)
+    failed = [r for r in records if r['status'] != 'ok']
+    runs = sorted({(r['integrator'], r['step (fs)']) for r in records}, key=lambda k: (k != tuple(peer), k))
+    by = {k: {r['replica']: r for r in records if (r['integrator'], r['step (fs)']) == k and r['status'] == 'ok'} for k in runs}
+    replicas = sorted(set.intersection(*(set(v) for v in by.values())))
+    tc, pe = 'T configurational (K)', 'potential per molecule (kJ/mol)'
+    lines = [f'Configurational temperature at 1 P from {len(replicas)} replicas (each from its own start; every '
+             f'run is also compared, start by start, with {peer[0]} at {peer[1]} fs from the same start). '
+             f'Exact: {exact:g} K. ± one standard error over replicas.', '',
+             f'| integrator | step (fs) | T configurational (K) | minus exact (%) | minus {peer[0]} {peer[1]} fs (%) | '
+             f'potential per molecule (kJ/mol) | minus {peer[0]} {peer[1]} fs (kJ/mol) |', '|---|---|---|---|---|---|---|']
+    verdicts = []
+    for k in runs:
+        t, st, dt, sdt = paired([by[k][i][tc] for i in replicas], [by[tuple(peer)][i][tc] for i in replicas])
+        p, sp, dp, sdp = paired([by[k][i][pe] for i in replicas], [by[tuple(peer)][i][pe] for i in replicas])
+        off, soff = 100*(t-exact)/exact, 100*st/exact
+        rel, srel = 100*dt/exact, 100*sdt/exact
+        same = k == tuple(peer)
+        lines.append(f'| {k[0]} | {k[1]} | {t:.1f} ± {st:.1f} | {off:+.2f} ± {soff:.2f} | '
+                     f"{'' if same else f'{rel:+.2f} ± {srel:.2f}'} | {p:.3f} ± {sp:.3f} | {'' if same else f'{dp:+.4f} ± {sdp:.4f}'} |")
+        verdicts.append(f"- {k[0]} {k[1]} fs: two standard errors of T configurational are {2*soff:.2f} % "
+                        f"({'resolves' if 2*soff <= 1.0 else 'does NOT resolve'} 1 %); it is {abs(off)/soff:.1f} standard errors from "
+                        f"{exact:g} K ({'consistent' if abs(off) <= 2*soff else 'a bias beyond 2 standard errors'})"
+                        + ('' if same else f"; {abs(rel)/srel:.1f} standard errors from {peer[0]} {peer[1]} fs"))
+    lines += ['', '## Verdict', ''] + verdicts
+    if failed:
+        lines.append(f'- {len(failed)} runs failed: '+', '.join(f"{r['integrator']} {r['step (fs)']} fs replica {r['replica']}: {r['status']}" for r in failed))
+    text = '\n'.join(lines)+'\n'
+    (out/'configurational.md').write_text(text)
+    print(text)

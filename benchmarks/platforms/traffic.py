@@ -1,0 +1,193 @@
+"""Memory traffic of one RigidLangevinIntegrator step, per body: the minimum a step must move against
+what each kernel moves today, for the common (OpenCL/CUDA) kernels and the CPU kernel, bodies of
+1, 3 and 10 particles, single, mixed and double precision, with the measured bytes and times
+beside them where there are measurements.
+
+The counts are a model of the kernels as written (rigidBodyStep.cc, rigidBodyAtoms.cc,
+HostRigidLangevinStepKernel.h): every per-body or per-particle array element a kernel touches
+counts once per kernel per step, whole (a mixed4 counts 4 values even where w is unused); per-type
+data (coefficients, body-frame coordinates shared by a type) stay in cache and count nothing. On
+the CPU a store to a line not in cache reads it first (write-allocate), so particle positions and
+velocities count twice there. The minimum keeps only what a step cannot avoid: the body state in
+and out (position, velocity, and for bodies that rotate the angular momentum and the orientation as
+a quaternion), the particles' forces in (OpenMM's 64-bit fixed-point buffer on GPUs), each
+particle's slot in OpenMM's reordered arrays, and its position out (posq, and posqCorrection in
+mixed precision); random numbers generated where they are used; particle velocities (needed only
+when a State asks for them) are listed apart.
+
+Measured: the H100's per-kernel DRAM bytes (Nsight Compute, mixed precision, 1e6 water-shaped
+bodies, results/gpu_h100/gpu_bandwidth.csv) and the time per body-step of integrator_cost.py
+(results/integrator_cost.csv) divided into the modelled bytes: the bandwidth a kernel achieves.
+
+    python benchmarks/platforms/traffic.py       # writes results/traffic.md and results/traffic.csv
+
+It also measures this machine's memory bandwidth (a numpy copy of 400 MB, one thread, bytes read and
+written), as the CPU kernels' peak; run it on a quiet machine.
+"""
+import csv
+import math
+import os
+
+from benchmark_utils import RESULTS
+
+PRECISIONS = {'single': (4, 4), 'mixed': (8, 4), 'double': (8, 8)}  # bytes of (mixed, real)
+PARTICLES = [1, 3, 10]
+FORCE = 24      # three 64-bit fixed-point components (OpenMM's long force buffer)
+INT, INT4 = 4, 16
+
+
+def rotations(n):
+    """Rotating axes of an n-particle body of the benchmarks (1: a point; 3 and 10: not collinear)."""
+    return 0 if n == 1 else 3
+
+
+def random_float4(n, scheme='ExactFlow'):
+    """float4s of normal random numbers per body and step (randomFloat4PerBody)."""
+    dof = 3+rotations(n)
+    numbers = (2 if rotations(n) == 0 else 4)*dof if scheme == 'ExactFlow' else dof
+    return math.ceil(numbers/4)
+
+
+def common_current(n, precision):
+    """Bytes per body-step of each common kernel as written (ExactFlow)."""
+    m, r = PRECISIONS[precision]
+    rotating = rotations(n) > 0
+    random = 16*random_float4(n)
+    step = (INT+INT                                   # bodyType, bodyAtomStart
+            + 2*3*4*m                                 # position, velocity, angular momentum (mixed4) in and out
+            + (2*12*m if rotating else 0)             # rotation matrix rows (3 mixed4) in and out
+            + n*(INT+4*m+FORCE)                       # atomSlot, atomCoords, force
+            + random)                                 # the random numbers generateRandomNumbers wrote
+    place = (INT+12*m+4*m+4*m+(4*m if rotating else 0)+INT4  # per body: type, rotation, position, velocity, angular momentum, image
+             + n*(INT+INT+4*m+INT4                    # per particle: atomBody, atomSlot, atomCoords, atomCellOffset
+                  + 2*4*r                             # posq in (for its charge) and out
+                  + (4*r if precision == 'mixed' else 0)  # posqCorrection out
+                  + 2*4*m))                           # velm in (for its inverse mass) and out
+    return {'generateRandomNumbers': random, 'step': step, 'placeBodyAtoms': place}
+
+
+def common_minimum(n, precision):
+    """Bytes per body-step a step cannot avoid on the common platforms; and particle velocities apart."""
+    m, r = PRECISIONS[precision]
+    state = 2*(4*m+4*m+(4*m+4*m if rotations(n) else 0))  # position, velocity (+ angular momentum, quaternion) in and out
+    particles = n*(INT+FORCE+4*r+(4*r if precision == 'mixed' else 0))
+    return state+particles, n*4*m
+
+
+def cpu_current(n):
+    """Bytes per body-step of the CPU (and Reference) kernel as written: one pass per body in double."""
+    d = 8
+    return (2*(3*d+3*d+3*d+9*d)                       # position, velocity, angular momentum, rotation matrix in and out
+            + INT+24+n*INT                            # body type, the body's particle list (vector header and indices)
+            + n*3*d                                   # forces
+            + 2*n*3*d+2*n*3*d)                        # positions and velocities out, each read first (write-allocate)
+
+
+def cpu_minimum(n):
+    d = 8
+    state = 2*(3*d+3*d+(3*d+4*d if rotations(n) else 0))
+    return state+n*(INT+3*d+3*d), 2*n*3*d   # positions written once (streaming stores); velocities apart
+
+
+def read_csv(name):
+    path = os.path.join(RESULTS, name)
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def measured_time(platform, precision, bodies=1000000):
+    """us per body-step of the integrator alone at 1e6 water-shaped bodies (integrator_cost.py)."""
+    for directory in ('', 'gpu_h100'):
+        for row in read_csv(os.path.join(directory, 'integrator_cost.csv')):
+            if row['platform'] == platform and row['precision'] == precision and row['bodies'] == str(bodies):
+                return float(row['us_per_body_step'])
+    return None
+
+
+def host_bandwidth(megabytes=400, repeats=5):
+    """GB/s of a one-thread copy of a large array, counting the bytes read and written."""
+    import time
+    import numpy as np
+    a = np.ones(megabytes*2**20//8)
+    b = np.empty_like(a)
+    best = float('inf')
+    for _ in range(repeats):
+        start = time.perf_counter()
+        np.copyto(b, a)
+        best = min(best, time.perf_counter()-start)
+    return 2*a.nbytes/best*1e-9
+
+
+def main():
+    rows = []
+    for precision in PRECISIONS:
+        for n in PARTICLES:
+            current = common_current(n, precision)
+            minimum, velocities = common_minimum(n, precision)
+            total = sum(current.values())
+            rows.append({'platform': 'OpenCL/CUDA', 'precision': precision, 'particles': n, 'minimum': minimum,
+                         'particle velocities': velocities, **current, 'current': total,
+                         'current/minimum': total/minimum, 'current/(minimum+velocities)': total/(minimum+velocities)})
+    for n in PARTICLES:
+        minimum, velocities = cpu_minimum(n)
+        current = cpu_current(n)
+        rows.append({'platform': 'CPU', 'precision': 'double', 'particles': n, 'minimum': minimum, 'particle velocities': velocities,
+                     'step': current, 'current': current, 'current/minimum': current/minimum,
+                     'current/(minimum+velocities)': current/(minimum+velocities)})
+    fields = ['platform', 'precision', 'particles', 'minimum', 'particle velocities', 'generateRandomNumbers', 'step',
+              'placeBodyAtoms', 'current', 'current/minimum', 'current/(minimum+velocities)']
+    with open(os.path.join(RESULTS, 'traffic.csv'), 'w', newline='') as f:
+        writer = csv.DictWriter(f, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(rows)
+
+    lines = ['# Bytes per body-step: minimum against today (model)', '',
+             'ExactFlow; 1-particle bodies are points (no rotation), 3 and 10 particles rotate about three axes. '
+             '"minimum": body state in and out, forces, slots and positions of the particles; "particle velocities": '
+             'what writing them every step adds; the kernels\' columns are what each moves as written.', '',
+             '| platform | precision | particles | minimum | + particle velocities | random numbers | step | place particles | today | today / minimum | today / (minimum + velocities) |',
+             '|---|---|---|---|---|---|---|---|---|---|---|']
+    for r in rows:
+        cell = lambda k: (f'{r[k]:.0f}' if k in r else '')
+        lines.append(f"| {r['platform']} | {r['precision']} | {r['particles']} | {r['minimum']} | {r['particle velocities']} | "
+                     f"{cell('generateRandomNumbers')} | {cell('step')} | {cell('placeBodyAtoms')} | {r['current']} | "
+                     f"{r['current/minimum']:.2f} | {r['current/(minimum+velocities)']:.2f} |")
+
+    profile = {row['kernel']: row for row in read_csv(os.path.join('gpu_h100', 'gpu_bandwidth.csv'))}
+    if profile:
+        model = common_current(3, 'mixed')
+        minimum, velocities = common_minimum(3, 'mixed')
+        lines += ['', '## Measured on an H100 (CUDA, mixed precision, 1e6 three-particle bodies, Nsight Compute DRAM bytes)', '',
+                  '| kernel | model (bytes/body-step) | measured (bytes/body-step) | measured / model | DRAM % of peak |', '|---|---|---|---|---|']
+        names = {'generateRandomNumbers': 'generateRandomNumbers', 'stepCoupledBodies3': 'step', 'placeBodyAtoms': 'placeBodyAtoms'}
+        for kernel, key in names.items():
+            if kernel in profile:
+                measured = float(profile[kernel]['bytes_per_body_step'])
+                lines.append(f"| {kernel} | {model[key]} | {measured:.0f} | {measured/model[key]:.2f} | {profile[kernel]['dram_pct_of_peak']} |")
+        for kernel, row in profile.items():
+            if kernel not in names:
+                lines.append(f"| {kernel} | | {float(row['bytes_per_body_step']):.0f} | | {row['dram_pct_of_peak']} |")
+        whole = float(profile['all kernels of a step (profiled)']['bytes_per_body_step'])
+        lines += ['', f'The whole step moves {whole:.0f} bytes per body-step: {whole/minimum:.1f} times the minimum ({minimum}), '
+                  f'{whole/(minimum+velocities):.1f} times with particle velocities ({minimum+velocities}).']
+    peak = host_bandwidth()
+    lines += ['', '## Achieved bandwidth (model bytes / measured time per body-step, 1e6 bodies, integrator_cost.py)', '',
+              f'This machine copies memory at {peak:.1f} GB/s (one thread, read and write counted): the CPU and PoCL rows '
+              'are far below it, so there the step is bound by arithmetic, not by memory.', '',
+              '| platform | precision | us per body-step | model bytes | GB/s |', '|---|---|---|---|---|']
+    for platform, precision, model in [('CPU', 'double', cpu_current(3)), ('OpenCL', 'single', sum(common_current(3, 'single').values())),
+                                       ('OpenCL', 'double', sum(common_current(3, 'double').values())),
+                                       ('CUDA', 'mixed', sum(common_current(3, 'mixed').values()))]:
+        t = measured_time(platform, precision)
+        if t is not None:
+            lines.append(f'| {platform} | {precision} | {t:.4g} | {model} | {model/t*1e-3:.3g} |')
+    text = '\n'.join(lines)+'\n'
+    with open(os.path.join(RESULTS, 'traffic.md'), 'w') as f:
+        f.write(text)
+    print(text)
+
+
+if __name__ == '__main__':
+    main()
