@@ -41,11 +41,10 @@ def rotations(n):
     return 0 if n == 1 else 3
 
 
-def random_float4(n, scheme='ExactFlow'):
-    """float4s of normal random numbers per body and step (randomFloat4PerBody)."""
-    dof = 3+rotations(n)
-    numbers = (2 if rotations(n) == 0 else 4)*dof if scheme == 'ExactFlow' else dof
-    return math.ceil(numbers/4)
+def random_float4(n):
+    """float4s of normal random numbers per body and ExactFlow step (randomFloat4PerBody): two per
+    coordinate, for each half of the flow of a body that rotates."""
+    return math.ceil((2 if rotations(n) == 0 else 4)*(3+rotations(n))/4)
 
 
 def common_current(n, precision):
@@ -86,7 +85,7 @@ def cpu_current(n):
 def cpu_minimum(n):
     d = 8
     state = 2*(3*d+3*d+(3*d+4*d if rotations(n) else 0))
-    return state+n*(INT+3*d+3*d), 2*n*3*d   # positions written once (streaming stores); velocities apart
+    return state+n*(INT+3*d+3*d), n*3*d   # positions written once (streaming stores), velocities likewise, apart
 
 
 def read_csv(name):

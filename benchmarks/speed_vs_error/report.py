@@ -11,6 +11,8 @@ import math
 
 import numpy as np
 
+from rigidlangevin.statistics import standard_error
+
 DYNAMICAL = ['D translational (nm^2/ps)', 'orientational time (ps)', 'VACF']
 CONFIGURATIONAL = ['T translational (K)', 'T rotational (K)', 'potential per molecule (kJ/mol)', 'T configurational (K)', 'O-O RDF']
 DEFAULT, ORIGINAL = 'ExactFlow', 'Original'
@@ -20,20 +22,22 @@ T_QUANTILE = {1: 12.71, 2: 4.30, 3: 3.18, 4: 2.78, 5: 2.57, 6: 2.45, 7: 2.36, 8:
               15: 2.13, 20: 2.09, 30: 2.04}
 
 
-def write(out, rows, stability):
-    out.mkdir(parents=True, exist_ok=True)
+def write_csv(path, rows):
+    """Rows (dicts) as CSV, with the union of their keys as columns in first-seen order."""
     fields = []
     for r in rows:
         fields += [k for k in r if k not in fields]
-    with open(out/'results.csv', 'w', newline='') as f:
+    with open(path, 'w', newline='') as f:
         writer = csv.DictWriter(f, fieldnames=fields)
         writer.writeheader()
         writer.writerows(rows)
+
+
+def write(out, rows, stability):
+    out.mkdir(parents=True, exist_ok=True)
+    write_csv(out/'results.csv', rows)
     if stability:
-        with open(out/'stability.csv', 'w', newline='') as f:
-            writer = csv.DictWriter(f, fieldnames=list(stability[0]))
-            writer.writeheader()
-            writer.writerows(stability)
+        write_csv(out/'stability.csv', stability)
     table = markdown(rows, stability)+'\n'+targets(rows, stability)
     (out/'table.md').write_text(table)
     print(table)
@@ -178,10 +182,8 @@ def paired(values, peers):
     """Mean and standard error of `values` (one per replica), and of their differences from `peers`
     run from the same starts: the difference is free of the starts' spread."""
     values, peers = np.asarray(values, float), np.asarray(peers, float)
-    n = len(values)
     difference = values-peers
-    se = (lambda x: float(np.std(x, ddof=1)/math.sqrt(n)) if n > 1 else float('nan'))
-    return float(values.mean()), se(values), float(difference.mean()), se(difference)
+    return float(values.mean()), standard_error(values), float(difference.mean()), standard_error(difference)
 
 
 def write_configurational(out, records, exact, peer):
@@ -189,13 +191,7 @@ def write_configurational(out, records, exact, peer):
     temperature of each (integrator, step) against its exact value and, start by start, against the
     peer (integrator, step); likewise the potential energy per molecule against the peer."""
     out.mkdir(parents=True, exist_ok=True)
-    with open(out/'configurational.csv', 'w', newline='') as f:
-        fields = []
-        for r in records:
-            fields += [k for k in r if k not in fields]
-        writer = csv.DictWriter(f, fieldnames=fields)
-        writer.writeheader()
-        writer.writerows(records)
+    write_csv(out/'configurational.csv', records)
     failed = [r for r in records if r['status'] != 'ok']
     runs = sorted({(r['integrator'], r['step (fs)']) for r in records}, key=lambda k: (k != tuple(peer), k))
     by = {k: {r['replica']: r for r in records if (r['integrator'], r['step (fs)']) == k and r['status'] == 'ok'} for k in runs}
