@@ -42,39 +42,43 @@ DEVICE void multiplyActive(GLOBAL const mixed* RESTRICT a, int dof, int friction
             y[i] = a[7*i]*x[i];
 }
 
-/** A body as the step works on it: state in private memory, type parameters in global memory. */
+/**
+ * A body as the step works on it: state in private memory, type parameters in global memory. The
+ * number of rotations is passed beside it, not kept in it: a constant in each kernel, it lets every
+ * loop over coordinates unroll, so that the body's arrays stay in registers (with a field read back
+ * from the struct, they went to local memory, which moved more bytes than the step needs).
+ */
 typedef struct {
     mixed q[9], position[3], velocity[3], angularMomentum[3];
     mixed mass, inertia[3];
-    int dof, numRotations, halfSteps;
 } Body;
 
 /** The generalized velocity (Q V, omega) on the active coordinates. */
-DEVICE void generalizedVelocity(const Body* b, mixed* u) {
+DEVICE void generalizedVelocity(const Body* b, int numRotations, mixed* u) {
     mixed vb[3];
     vectorToBodyFrame(b->q, b->velocity, vb);
-    for (int i = 0; i < b->dof; i++) {
-        int k = activeCoordinate(i, b->numRotations);
+    for (int i = 0; i < 3+numRotations; i++) {
+        int k = activeCoordinate(i, numRotations);
         u[i] = (k < 3 ? vb[k] : b->angularMomentum[k-3]/b->inertia[k-3]);
     }
 }
 
 /** Add dt*force/m to the velocity and dt*torque to the angular momentum about the axes that rotate. */
-DEVICE void kickBody(Body* b, const mixed* force, const mixed* torque, mixed dt) {
+DEVICE void kickBody(Body* b, int numRotations, const mixed* force, const mixed* torque, mixed dt) {
     mixed scale = dt/b->mass;
     for (int i = 0; i < 3; i++) {
         b->velocity[i] += force[i]*scale;
-        if (i >= 3-b->numRotations)
+        if (i >= 3-numRotations)
             b->angularMomentum[i] += dt*torque[i];
     }
 }
 
 /** The free drift over dt: translation and free rotation (BAOAB's A, velocity Verlet's drift). */
-DEVICE void driftBody(Body* b, mixed dt) {
+DEVICE void driftBody(Body* b, int numRotations, mixed dt) {
     for (int i = 0; i < 3; i++)
         b->position[i] += b->velocity[i]*dt;
-    if (b->numRotations > 0)
-        freeRotorRotation(b->q, b->numRotations, b->inertia, dt, b->angularMomentum, 1);
+    if (numRotations > 0)
+        freeRotorRotation(b->q, numRotations, b->inertia, dt, b->angularMomentum, 1);
 }
 
 /**
@@ -82,14 +86,14 @@ DEVICE void driftBody(Body* b, mixed dt) {
  * halves for bodies that rotate, plus the frame-rotation terms of second order (BodyDynamics::exactFlow).
  * Uses 2 (one flow) or 4 (two halves) normal random numbers per active coordinate.
  */
-DEVICE void exactFlow(Body* b, GLOBAL const mixed* RESTRICT tp, int frictionClass, mixed h, const float* rnd) {
-    const int dof = b->dof;
+DEVICE void exactFlow(Body* b, int numRotations, int halfSteps, GLOBAL const mixed* RESTRICT tp, int frictionClass, mixed h, const float* rnd) {
+    const int dof = 3+numRotations;
     mixed u[6], a[6], mid[6], y[6], displacement[6];
-    generalizedVelocity(b, u);
+    generalizedVelocity(b, numRotations, u);
     multiplyActive(&tp[TP_TO_MODES], dof, frictionClass, u, a);
     for (int i = 0; i < dof; i++) {
         GLOBAL const mixed* m = &tp[TP_MODES+5*i];
-        if (b->halfSteps) {
+        if (halfSteps) {
             mixed n1 = rnd[4*i], n2 = rnd[4*i+1], n3 = rnd[4*i+2], n4 = rnd[4*i+3];
             y[i] = m[MODE_DRIFT]*a[i]+m[MODE_NOISE_CROSS]*n1+m[MODE_NOISE_DISPLACEMENT]*n2;
             a[i] = m[MODE_DECAY]*a[i]+m[MODE_NOISE_VELOCITY]*n1;
@@ -107,7 +111,7 @@ DEVICE void exactFlow(Body* b, GLOBAL const mixed* RESTRICT tp, int frictionClas
     multiplyActive(&tp[TP_FROM_MODES], dof, frictionClass, y, displacement);
     mixed dx[3] = {0, 0, 0}, vb[3] = {0, 0, 0}, j[3] = {0, 0, 0}, theta[3] = {0, 0, 0};
     for (int i = 0; i < dof; i++) {
-        int k = activeCoordinate(i, b->numRotations);
+        int k = activeCoordinate(i, numRotations);
         if (k < 3) {
             dx[k] = displacement[i];
             vb[k] = u[i];
@@ -117,7 +121,7 @@ DEVICE void exactFlow(Body* b, GLOBAL const mixed* RESTRICT tp, int frictionClas
             theta[k-3] = displacement[i];
         }
     }
-    if (b->numRotations == 0) {
+    if (numRotations == 0) {
         vectorToLabFrame(b->q, vb, b->velocity);
         mixed labDx[3];
         vectorToLabFrame(b->q, dx, labDx);
@@ -130,7 +134,7 @@ DEVICE void exactFlow(Body* b, GLOBAL const mixed* RESTRICT tp, int frictionClas
     mixed midVelocity[6], vMid[3] = {0, 0, 0}, wMid[3] = {0, 0, 0};
     multiplyActive(&tp[TP_FROM_MODES], dof, frictionClass, mid, midVelocity);
     for (int i = 0; i < dof; i++) {
-        int k = activeCoordinate(i, b->numRotations);
+        int k = activeCoordinate(i, numRotations);
         if (k < 3)
             vMid[k] = tp[TP_DRIVE+k]*midVelocity[i];
         else
@@ -154,7 +158,7 @@ DEVICE void exactFlow(Body* b, GLOBAL const mixed* RESTRICT tp, int frictionClas
         rest[k] = 0.5f*(theta[k]-h*wMid[k]);
     }
     rotateByRotationVector(b->q, rest, drive, 1);
-    freeRotorRotation(b->q, b->numRotations, b->inertia, h, drive, 1);
+    freeRotorRotation(b->q, numRotations, b->inertia, h, drive, 1);
     rotateByRotationVector(b->q, rest, drive, 0);
 
     // The end angular momentum and the end velocity turn by the free-rotor motion of the end angular
@@ -167,30 +171,30 @@ DEVICE void exactFlow(Body* b, GLOBAL const mixed* RESTRICT tp, int frictionClas
         vectors[3+k] = j[k];
         vectors[6+k] = vb[k];
     }
-    if (b->numRotations == 2) {
+    if (numRotations == 2) {
         mixed phi[3] = {0, h*vectors[1]/b->inertia[1], h*vectors[2]/b->inertia[2]};
         rotateByRotationVector(0, phi, &vectors[6], 1);
-        freeRotorRotation(0, b->numRotations, b->inertia, h, vectors, 2);
+        freeRotorRotation(0, numRotations, b->inertia, h, vectors, 2);
     }
     else
-        freeRotorRotation(0, b->numRotations, b->inertia, h, vectors, 3);
+        freeRotorRotation(0, numRotations, b->inertia, h, vectors, 3);
     for (int k = 0; k < 3; k++)
-        b->angularMomentum[k] = (k >= 3-b->numRotations ? vectors[3+k] : 0);
+        b->angularMomentum[k] = (k >= 3-numRotations ? vectors[3+k] : 0);
     vectorToLabFrame(b->q, &vectors[6], b->velocity);
 }
 
 /** BAOAB's O: the exact Ornstein-Uhlenbeck step of the velocities over h (dof random numbers). */
-DEVICE void ornsteinUhlenbeck(Body* b, GLOBAL const mixed* RESTRICT tp, int frictionClass, const float* rnd) {
-    const int dof = b->dof;
+DEVICE void ornsteinUhlenbeck(Body* b, int numRotations, GLOBAL const mixed* RESTRICT tp, int frictionClass, const float* rnd) {
+    const int dof = 3+numRotations;
     mixed u[6], a[6];
-    generalizedVelocity(b, u);
+    generalizedVelocity(b, numRotations, u);
     multiplyActive(&tp[TP_TO_MODES], dof, frictionClass, u, a);
     for (int i = 0; i < dof; i++)
         a[i] = tp[TP_MODES+5*i+MODE_DECAY]*a[i]+tp[TP_MODES+5*i+MODE_NOISE_VELOCITY]*rnd[i];
     multiplyActive(&tp[TP_FROM_MODES], dof, frictionClass, a, u);
     mixed vb[3];
     for (int i = 0; i < dof; i++) {
-        int k = activeCoordinate(i, b->numRotations);
+        int k = activeCoordinate(i, numRotations);
         if (k < 3)
             vb[k] = u[i];
         else
@@ -205,13 +209,13 @@ DEVICE void ornsteinUhlenbeck(Body* b, GLOBAL const mixed* RESTRICT tp, int fric
  * rotate (BodyDynamics::originalStep). Uses dof random numbers. ORIGINAL_MAX_ITERATIONS and
  * ORIGINAL_TOLERANCE come from the host (BodyDynamics.h).
  */
-DEVICE void originalStep(Body* b, GLOBAL const mixed* RESTRICT tp, const mixed* force, const mixed* torque, mixed h, const float* rnd) {
-    const int dof = b->dof;
+DEVICE void originalStep(Body* b, int numRotations, GLOBAL const mixed* RESTRICT tp, const mixed* force, const mixed* torque, mixed h, const float* rnd) {
+    const int dof = 3+numRotations;
     mixed uHalf[6], u[6], g[6], fb[3];
-    generalizedVelocity(b, uHalf);
+    generalizedVelocity(b, numRotations, uHalf);
     vectorToBodyFrame(b->q, force, fb);
     for (int i = 0; i < dof; i++) {
-        int k = activeCoordinate(i, b->numRotations);
+        int k = activeCoordinate(i, numRotations);
         g[i] = (k < 3 ? fb[k] : torque[k-3]);
     }
     for (int i = 0; i < dof; i++)
@@ -240,7 +244,7 @@ DEVICE void originalStep(Body* b, GLOBAL const mixed* RESTRICT tp, const mixed* 
         for (int j = 0; j < dof; j++)
             friction += tp[TP_FRICTION+6*i+j]*u[j];
         mixed total = g[i]-friction;
-        int k = activeCoordinate(i, b->numRotations);
+        int k = activeCoordinate(i, numRotations);
         if (k < 3) {
             vb[k] = u[i];
             totalForce[k] = total;
@@ -253,7 +257,7 @@ DEVICE void originalStep(Body* b, GLOBAL const mixed* RESTRICT tp, const mixed* 
     for (int i = 0; i < 3; i++)
         kicked[i] = vb[i]+totalForce[i]*scale;
     vectorToLabFrame(b->q, kicked, b->velocity);
-    driftBody(b, h);
+    driftBody(b, numRotations, h);
 }
 
 /**
@@ -297,9 +301,6 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int scheme, 
     GLOBAL const mixed* tp = &typeParams[type*TYPE_STRIDE];
     int4 info = typeInfo[type];
     Body b;
-    b.dof = 3+numRotations;
-    b.numRotations = numRotations;
-    b.halfSteps = info.z;
     b.mass = tp[TP_MASS];
     for (int i = 0; i < 3; i++)
         b.inertia[i] = tp[TP_MASS+1+i];
@@ -315,41 +316,40 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int scheme, 
         b.velocity[2] -= v.z;
     }
     mixed totalForce[3], torque[3];
-    loadBodyForce(body, b.numRotations, b.q, bodyAtomStart, atomSlot, atomCoords, force, totalForce, torque);
+    loadBodyForce(body, numRotations, b.q, bodyAtomStart, atomSlot, atomCoords, force, totalForce, torque);
 
     // This body's normal random numbers.
+    // The loop has a constant bound so that it unrolls and rnd stays in registers: with a runtime
+    // bound rnd lives in local memory, which moves more bytes than the whole step needs.
     float rnd[24];
-    if (randomPerBody == 0)
-        for (int i = 0; i < 8; i++)
-            rnd[i] = 0;  // the Original scheme without friction multiplies them by zero
-    for (int i = 0; i < randomPerBody; i++) {
-        float4 r = random[randomIndex+randomPerBody*body+i];
+    for (int i = 0; i < 6; i++) {
+        float4 r = (i < randomPerBody ? random[randomIndex+randomPerBody*body+i] : make_float4(0, 0, 0, 0));
         rnd[4*i] = r.x;
         rnd[4*i+1] = r.y;
         rnd[4*i+2] = r.z;
         rnd[4*i+3] = r.w;
     }
     if (scheme == SCHEME_ORIGINAL)
-        originalStep(&b, tp, totalForce, torque, h, rnd);
+        originalStep(&b, numRotations, tp, totalForce, torque, h, rnd);
     else {
         // Velocities are kept between flow and kick: the half kicks of consecutive steps are one.
-        kickBody(&b, totalForce, torque, h);
+        kickBody(&b, numRotations, totalForce, torque, h);
         if (frictionless) {
             if (scheme == SCHEME_EXACT_FLOW)
-                driftBody(&b, h);
+                driftBody(&b, numRotations, h);
             else {
-                driftBody(&b, 0.5f*h);
-                driftBody(&b, 0.5f*h);
+                driftBody(&b, numRotations, 0.5f*h);
+                driftBody(&b, numRotations, 0.5f*h);
             }
         }
         else if (frictionClass == CLASS_SCALAR)
             scalarFlow(&b, tp, scheme, h, rnd);
         else if (scheme == SCHEME_EXACT_FLOW)
-            exactFlow(&b, tp, frictionClass, h, rnd);
+            exactFlow(&b, numRotations, info.z, tp, frictionClass, h, rnd);
         else {
-            driftBody(&b, 0.5f*h);
-            ornsteinUhlenbeck(&b, tp, frictionClass, rnd);
-            driftBody(&b, 0.5f*h);
+            driftBody(&b, numRotations, 0.5f*h);
+            ornsteinUhlenbeck(&b, numRotations, tp, frictionClass, rnd);
+            driftBody(&b, numRotations, 0.5f*h);
         }
     }
     if (renormalize && frictionClass != CLASS_SCALAR)
