@@ -90,7 +90,9 @@ def main():
     plot(rows, args.name)
 
 
-def plot(rows, name):
+def plot(rows, name, title='RigidLangevinIntegrator, no forces'):
+    """Time per body-step against bodies, each platform and precision beside LangevinMiddleIntegrator
+    on the same particles (dashed, same colour), and the ratio of the two."""
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
@@ -98,22 +100,26 @@ def plot(rows, name):
     series = {}
     for row in rows:
         if row.get('ms_per_step'):
-            series.setdefault(f"{row['platform']} ({row['precision']})", []).append((row['bodies'], float(row['ms_per_step']), float(row['body_steps_per_s'])))
+            n = int(row['bodies'])
+            series.setdefault(f"{row['platform']} ({row['precision']})", []).append(
+                (n, 1e3*float(row['ms_per_step'])/n, 1e3*float(row['langevin_middle_ms_per_step'])/n))
     for label, points in series.items():
+        points.sort()
         n = np.array([p[0] for p in points])
-        left.loglog(n, [p[1] for p in points], 'o-', label=label)
-        right.semilogx(n, [p[2] for p in points], 'o-', label=label)
-    reference = np.array([1e3, 1e6])
-    left.loglog(reference, 1e-3*reference/1e3*0.5, 'k:', label='linear (slope 1)')
-    left.set_xlabel('bodies')
-    left.set_ylabel('time per step (ms)')
-    left.set_title('RigidLangevinIntegrator, no forces')
+        rigid, middle = np.array([p[1] for p in points]), np.array([p[2] for p in points])
+        line, = left.loglog(n, rigid, 'o-', label=label)
+        left.loglog(n, middle, 's--', color=line.get_color(), alpha=0.6, label=f'{label}: LangevinMiddle')
+        right.semilogx(n, rigid/middle, 'o-', color=line.get_color(), label=label)
+    right.axhline(1, color='k', lw=0.8)
+    left.set_xlabel('bodies (3 particles each)')
+    left.set_ylabel('us per body-step')
+    left.set_title(title)
     right.set_xlabel('bodies')
-    right.set_ylabel('bodies x steps per second')
-    right.set_title('throughput (flat = linear cost)')
+    right.set_ylabel('RigidLangevin / LangevinMiddle (same particles)')
+    right.set_title('cost relative to LangevinMiddleIntegrator')
     for ax in (left, right):
         ax.grid(True, which='both', alpha=0.3)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=7)
     save_plot(fig, name)
 
 

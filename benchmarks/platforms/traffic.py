@@ -15,8 +15,8 @@ particle's slot in OpenMM's reordered arrays, and its position out (posq, and po
 mixed precision); random numbers generated where they are used; particle velocities (needed only
 when a State asks for them) are listed apart.
 
-Measured: the H100's per-kernel DRAM bytes (Nsight Compute, mixed precision, 1e6 water-shaped
-bodies, results/gpu_h100/gpu_bandwidth.csv) and the time per body-step of integrator_cost.py
+Measured: the H100's per-kernel DRAM bytes (Nsight Compute, 1e6 water-shaped bodies; PROFILES
+below: before the kernels were rewritten, after each step of the rewrite) and the time per body-step of integrator_cost.py
 (results/integrator_cost.csv) divided into the modelled bytes: the bandwidth a kernel achieves.
 
     python benchmarks/platforms/traffic.py       # writes results/traffic.md and results/traffic.csv
@@ -47,21 +47,43 @@ def random_float4(n):
     return math.ceil((2 if rotations(n) == 0 else 4)*(3+rotations(n))/4)
 
 
+def _particle_placement(n, precision):
+    """Per particle, what placing it moves beyond what the force gather reads: its periodic cell
+    offset, posq in (for its charge) and out, posqCorrection out in mixed precision, velm in (for its
+    inverse mass) and out."""
+    m, r = PRECISIONS[precision]
+    return n*(INT4+2*4*r+(4*r if precision == 'mixed' else 0)+2*4*m)
+
+
+def _body_state(n, precision):
+    """Position, velocity, angular momentum (mixed4 each) and rotation matrix rows (3 mixed4), in and out."""
+    m, r = PRECISIONS[precision]
+    return 2*3*4*m+(2*12*m if rotations(n) > 0 else 0)
+
+
 def common_current(n, precision):
-    """Bytes per body-step of each common kernel as written (ExactFlow)."""
+    """Bytes per body-step of each common kernel as written (ExactFlow): one pass per body that steps it
+    and places its particles, and OpenMM's random-number kernel."""
+    m, r = PRECISIONS[precision]
+    random = 16*random_float4(n)
+    step = (INT+INT+INT4                              # bodyType, bodyAtomStart, bodyImage
+            + _body_state(n, precision)
+            + n*(INT+4*m+FORCE)                       # atomSlot, atomCoords, force
+            + _particle_placement(n, precision)
+            + random)                                 # the random numbers generateRandomNumbers wrote
+    return {'generateRandomNumbers': random, 'step': step}
+
+
+def common_before(n, precision):
+    """The same before the step and the placement were fused (commit 61978fa): a step kernel, then a
+    placement kernel with one work item per particle that read the body state and the entries again."""
     m, r = PRECISIONS[precision]
     rotating = rotations(n) > 0
     random = 16*random_float4(n)
-    step = (INT+INT                                   # bodyType, bodyAtomStart
-            + 2*3*4*m                                 # position, velocity, angular momentum (mixed4) in and out
-            + (2*12*m if rotating else 0)             # rotation matrix rows (3 mixed4) in and out
-            + n*(INT+4*m+FORCE)                       # atomSlot, atomCoords, force
-            + random)                                 # the random numbers generateRandomNumbers wrote
+    step = INT+INT+_body_state(n, precision)+n*(INT+4*m+FORCE)+random
     place = (INT+12*m+4*m+4*m+(4*m if rotating else 0)+INT4  # per body: type, rotation, position, velocity, angular momentum, image
-             + n*(INT+INT+4*m+INT4                    # per particle: atomBody, atomSlot, atomCoords, atomCellOffset
-                  + 2*4*r                             # posq in (for its charge) and out
-                  + (4*r if precision == 'mixed' else 0)  # posqCorrection out
-                  + 2*4*m))                           # velm in (for its inverse mass) and out
+             + n*(INT+INT+4*m)                        # per particle: atomBody, atomSlot, atomCoords
+             + _particle_placement(n, precision))
     return {'generateRandomNumbers': random, 'step': step, 'placeBodyAtoms': place}
 
 
@@ -119,24 +141,38 @@ def host_bandwidth(megabytes=400, repeats=5):
     return 2*a.nbytes/best*1e-9
 
 
+def profile_rows(name):
+    """Per-kernel DRAM bytes per body-step of an H100 profile (gpu_bandwidth.py), by kernel name."""
+    return {row['kernel']: row for row in read_csv(os.path.join('gpu_h100', name))}
+
+
+# The H100 profiles (CUDA, 1e6 three-particle bodies): before any change, after the step kernels kept
+# their arrays in registers (97e1b74), and with the step and the placement fused into one pass.
+PROFILES = [('before (61978fa)', 'gpu_bandwidth_before.csv', 'mixed'),
+            ('registers (97e1b74)', 'gpu_bandwidth_registers.csv', 'mixed'),
+            ('fused, mixed', 'gpu_bandwidth.csv', 'mixed'),
+            ('fused, single', 'gpu_bandwidth_single.csv', 'single')]
+
+
 def main():
     rows = []
     for precision in PRECISIONS:
         for n in PARTICLES:
             current = common_current(n, precision)
+            before = sum(common_before(n, precision).values())
             minimum, velocities = common_minimum(n, precision)
             total = sum(current.values())
             rows.append({'platform': 'OpenCL/CUDA', 'precision': precision, 'particles': n, 'minimum': minimum,
-                         'particle velocities': velocities, **current, 'current': total,
+                         'particle velocities': velocities, 'before': before, **current, 'current': total,
                          'current/minimum': total/minimum, 'current/(minimum+velocities)': total/(minimum+velocities)})
     for n in PARTICLES:
         minimum, velocities = cpu_minimum(n)
         current = cpu_current(n)
         rows.append({'platform': 'CPU', 'precision': 'double', 'particles': n, 'minimum': minimum, 'particle velocities': velocities,
-                     'step': current, 'current': current, 'current/minimum': current/minimum,
+                     'before': current, 'step': current, 'current': current, 'current/minimum': current/minimum,
                      'current/(minimum+velocities)': current/(minimum+velocities)})
-    fields = ['platform', 'precision', 'particles', 'minimum', 'particle velocities', 'generateRandomNumbers', 'step',
-              'placeBodyAtoms', 'current', 'current/minimum', 'current/(minimum+velocities)']
+    fields = ['platform', 'precision', 'particles', 'minimum', 'particle velocities', 'before', 'generateRandomNumbers', 'step',
+              'current', 'current/minimum', 'current/(minimum+velocities)']
     with open(os.path.join(RESULTS, 'traffic.csv'), 'w', newline='') as f:
         writer = csv.DictWriter(f, fieldnames=fields)
         writer.writeheader()
@@ -145,32 +181,37 @@ def main():
     lines = ['# Bytes per body-step: minimum against today (model)', '',
              'ExactFlow; 1-particle bodies are points (no rotation), 3 and 10 particles rotate about three axes. '
              '"minimum": body state in and out, forces, slots and positions of the particles; "particle velocities": '
-             'what writing them every step adds; the kernels\' columns are what each moves as written.', '',
-             '| platform | precision | particles | minimum | + particle velocities | random numbers | step | place particles | today | today / minimum | today / (minimum + velocities) |',
+             'what writing them every step adds; "before": the kernels of commit 61978fa (a step kernel, then a particle '
+             'placement kernel); the kernels\' columns are what each moves as written now (the step kernel places its '
+             'bodies\' particles).', '',
+             '| platform | precision | particles | minimum | + particle velocities | before | random numbers | step | today | today / minimum | today / (minimum + velocities) |',
              '|---|---|---|---|---|---|---|---|---|---|---|']
     for r in rows:
         cell = lambda k: (f'{r[k]:.0f}' if k in r else '')
         lines.append(f"| {r['platform']} | {r['precision']} | {r['particles']} | {r['minimum']} | {r['particle velocities']} | "
-                     f"{cell('generateRandomNumbers')} | {cell('step')} | {cell('placeBodyAtoms')} | {r['current']} | "
+                     f"{r['before']} | {cell('generateRandomNumbers')} | {cell('step')} | {r['current']} | "
                      f"{r['current/minimum']:.2f} | {r['current/(minimum+velocities)']:.2f} |")
 
-    profile = {row['kernel']: row for row in read_csv(os.path.join('gpu_h100', 'gpu_bandwidth.csv'))}
-    if profile:
-        model = common_current(3, 'mixed')
-        minimum, velocities = common_minimum(3, 'mixed')
-        lines += ['', '## Measured on an H100 (CUDA, mixed precision, 1e6 three-particle bodies, Nsight Compute DRAM bytes)', '',
-                  '| kernel | model (bytes/body-step) | measured (bytes/body-step) | measured / model | DRAM % of peak |', '|---|---|---|---|---|']
-        names = {'generateRandomNumbers': 'generateRandomNumbers', 'stepCoupledBodies3': 'step', 'placeBodyAtoms': 'placeBodyAtoms'}
-        for kernel, key in names.items():
-            if kernel in profile:
-                measured = float(profile[kernel]['bytes_per_body_step'])
-                lines.append(f"| {kernel} | {model[key]} | {measured:.0f} | {measured/model[key]:.2f} | {profile[kernel]['dram_pct_of_peak']} |")
-        for kernel, row in profile.items():
-            if kernel not in names:
-                lines.append(f"| {kernel} | | {float(row['bytes_per_body_step']):.0f} | | {row['dram_pct_of_peak']} |")
-        whole = float(profile['all kernels of a step (profiled)']['bytes_per_body_step'])
-        lines += ['', f'The whole step moves {whole:.0f} bytes per body-step: {whole/minimum:.1f} times the minimum ({minimum}), '
-                  f'{whole/(minimum+velocities):.1f} times with particle velocities ({minimum+velocities}).']
+    measured = [(label, profile_rows(name), precision) for label, name, precision in PROFILES]
+    measured = [m for m in measured if m[1]]
+    if measured:
+        lines += ['', '## Measured on an H100 (CUDA, 1e6 three-particle bodies, Nsight Compute DRAM bytes per body-step)', '',
+                  '| kernels | kernel | model | measured | measured / model | DRAM % of peak | us per step |', '|---|---|---|---|---|---|---|']
+        for label, profile, precision in measured:
+            model = (common_before if label.startswith('before') or label.startswith('registers') else common_current)(3, precision)
+            for kernel, row in profile.items():
+                key = 'step' if kernel.startswith('step') else kernel
+                bytes_ = float(row['bytes_per_body_step'])
+                ratio = f'{bytes_/model[key]:.2f}' if key in model else ''
+                lines.append(f"| {label} | {kernel} | {model.get(key, '')} | {bytes_:.0f} | {ratio} | {row['dram_pct_of_peak']} | {row['us_per_step']} |")
+        lines.append('')
+        for label, profile, precision in measured:
+            minimum, velocities = common_minimum(3, precision)
+            whole = float(profile['all kernels of a step (profiled)']['bytes_per_body_step'])
+            wall = profile['whole step, unprofiled wall time']
+            lines.append(f'- {label}: the whole step moves {whole:.0f} bytes per body-step, {whole/minimum:.2f} times the minimum '
+                         f'({minimum}), {whole/(minimum+velocities):.2f} times with particle velocities ({minimum+velocities}); '
+                         f'{wall["us_per_step"]} us per step, {wall["dram_pct_of_peak"]}% of peak DRAM bandwidth.')
     peak = host_bandwidth()
     lines += ['', '## Achieved bandwidth (model bytes / measured time per body-step, 1e6 bodies, integrator_cost.py)', '',
               f'This machine copies memory at {peak:.1f} GB/s (one thread, read and write counted): the CPU and PoCL rows '
@@ -178,6 +219,7 @@ def main():
               '| platform | precision | us per body-step | model bytes | GB/s |', '|---|---|---|---|---|']
     for platform, precision, model in [('CPU', 'double', cpu_current(3)), ('OpenCL', 'single', sum(common_current(3, 'single').values())),
                                        ('OpenCL', 'double', sum(common_current(3, 'double').values())),
+                                       ('CUDA', 'single', sum(common_current(3, 'single').values())),
                                        ('CUDA', 'mixed', sum(common_current(3, 'mixed').values()))]:
         t = measured_time(platform, precision)
         if t is not None:

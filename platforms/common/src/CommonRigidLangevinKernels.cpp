@@ -18,12 +18,12 @@ namespace {
 
 /** Arguments of the step kernels set at every step (the others are fixed). */
 enum StepArgument {
-    StepFirst = 0, StepLast = 1, StepScheme = 2, StepFrictionless = 3, StepSize = 4, StepRemoveMotion = 5, StepRenormalize = 6,
+    StepFirst = 0, StepLast = 1, StepFrictionless = 2, StepSize = 3, StepRemoveMotion = 4, StepRenormalize = 5,
     StepRandomIndex = 19, StepRandomPerBody = 20, StepBox = 23
 };
 
 /** The first periodic box vector argument of placeBodyAtoms. */
-const int PlaceBox = 15;
+const int PlaceBox = 16;
 
 /** Whole boxes to subtract from r to bring it into the periodic box of reduced vectors a, b, c (as keepInBox does). */
 mm_int4 imageOf(Vec3& r, const Vec3* box) {
@@ -89,9 +89,11 @@ void CommonIntegrateRigidLangevinStepKernel::initialize(const System& system, co
     mixedIsDouble = (cc.getUseDoublePrecision() || cc.getUseMixedPrecision());
     periodic = system.usesPeriodicBoundaryConditions();
     cc.getIntegrationUtilities().initRandomNumberGenerator((unsigned int) integrator.getRandomNumberSeed());
-    ComputeProgram program = cc.compileProgram(RigidBodyKernelLayout::source(), RigidBodyKernelLayout::defines(cc.getPaddedNumAtoms(), mixedIsDouble));
+    ComputeProgram program = cc.compileProgram(RigidBodyKernelLayout::source(),
+            RigidBodyKernelLayout::defines(cc.getPaddedNumAtoms(), mixedIsDouble, integrator.getScheme()));
+    vector<ComputeKernel>& kernels = stepKernels[integrator.getScheme()];
     for (int group = 0; group < NumStepGroups; group++)
-        stepKernels.push_back(program->createKernel(stepKernelName(group)));
+        kernels.push_back(program->createKernel(stepKernelName(group)));
     placeKernel = program->createKernel("placeBodyAtoms");
     centerOfMassKernel = program->createKernel("computeCenterOfMassVelocity");
     kineticEnergyKernel = program->createKernel("computeBodyKineticEnergies");
@@ -119,7 +121,7 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
         groupStart[g] += groupStart[g-1];
 
     // Body particles, contiguous per body in kernel order.
-    vector<int> types(numBodies), atomStart(numBodies+1), entryBody;
+    vector<int> types(numBodies), atomStart(numBodies+1);
     entryParticle.clear();
     vector<mm_double4> coords;
     for (int k = 0; k < numBodies; k++) {
@@ -130,7 +132,6 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
         const BodyType& type = model.getType(types[k]);
         for (int i = 0; i < (int) particles.size(); i++) {
             entryParticle.push_back(particles[i]);
-            entryBody.push_back(k);
             // w: the weight of the particle's force entry in the body's force and torque. OpenMM has
             // already handed a virtual site's force to its parents.
             coords.push_back(mm_double4(type.coords[i][0], type.coords[i][1], type.coords[i][2], type.isVirtualSite[i] ? 0 : 1));
@@ -146,7 +147,6 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
         initializeMixedArrays<float, mm_float4>(model.getNumTypes());
     initializeArray<int>(bodyType, cc, numBodies, "rigidBodyType");
     initializeArray<int>(bodyAtomStart, cc, numBodies+1, "rigidBodyAtomStart");
-    initializeArray<int>(atomBody, cc, numEntries, "rigidBodyAtomBody");
     initializeArray<int>(atomSlot, cc, numEntries, "rigidBodyAtomSlot");
     initializeArray<mm_int4>(atomCellOffset, cc, numEntries, "rigidBodyAtomCellOffset");
     initializeArray<mm_int4>(bodyImage, cc, numBodies, "rigidBodyImage");
@@ -156,7 +156,6 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
         bodyAtomStart.upload(atomStart);
     }
     if (numEntries > 0) {
-        atomBody.upload(entryBody);
         atomCoords.upload(coords, true);
     }
 
@@ -205,34 +204,9 @@ void CommonIntegrateRigidLangevinStepKernel::setKernelArguments() {
     if (hasSetArguments)
         return;
     hasSetArguments = true;
-    for (ComputeKernel& kernel : stepKernels) {
-        for (int i = 0; i < 7; i++)
-            kernel->addArg();
-        kernel->addArg(bodyPosition);
-        kernel->addArg(bodyVelocity);
-        kernel->addArg(bodyAngularMomentum);
-        kernel->addArg(bodyRotation);
-        kernel->addArg(bodyType);
-        kernel->addArg(bodyAtomStart);
-        kernel->addArg(atomSlot);
-        kernel->addArg(atomCoords);
-        kernel->addArg(cc.getLongForceBuffer());
-        kernel->addArg(typeParams);
-        kernel->addArg(typeInfo);
-        kernel->addArg(cc.getIntegrationUtilities().getRandom());
-        kernel->addArg();  // random index
-        kernel->addArg();  // random numbers per body
-        kernel->addArg(centerOfMassVelocity);
-        kernel->addArg(periodic ? 1 : 0);
-        for (int i = 0; i < 3; i++)
-            kernel->addArg();  // periodic box vectors
-        kernel->addArg(bodyImage);
-    }
-    placeKernel->addArg(numEntries);
-    placeKernel->addArg(atomBody);
-    placeKernel->addArg(atomSlot);
-    placeKernel->addArg(atomCoords);
-    placeKernel->addArg(atomCellOffset);
+    for (auto& scheme : stepKernels)
+        setStepArguments(scheme.second);
+    placeKernel->addArg(numBodies);
     placeKernel->addArg(bodyPosition);
     placeKernel->addArg(bodyVelocity);
     placeKernel->addArg(bodyAngularMomentum);
@@ -240,13 +214,17 @@ void CommonIntegrateRigidLangevinStepKernel::setKernelArguments() {
     placeKernel->addArg(bodyType);
     placeKernel->addArg(typeParams);
     placeKernel->addArg(typeInfo);
+    placeKernel->addArg(bodyImage);
+    placeKernel->addArg(bodyAtomStart);
+    placeKernel->addArg(atomSlot);
+    placeKernel->addArg(atomCoords);
+    placeKernel->addArg(atomCellOffset);
     placeKernel->addArg(cc.getPosq());
     // Written only in mixed precision; posq stands in for it otherwise.
     placeKernel->addArg(cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq());
     placeKernel->addArg(cc.getVelm());
     for (int i = 0; i < 3; i++)
         placeKernel->addArg();  // periodic box vectors
-    placeKernel->addArg(bodyImage);
     centerOfMassKernel->addArg(numBodies);
     centerOfMassKernel->addArg();  // inverse total mass
     centerOfMassKernel->addArg(bodyVelocity);
@@ -268,20 +246,66 @@ void CommonIntegrateRigidLangevinStepKernel::setKernelArguments() {
     kineticEnergyKernel->addArg(kineticEnergies);
 }
 
+void CommonIntegrateRigidLangevinStepKernel::setStepArguments(vector<ComputeKernel>& kernels) {
+    for (ComputeKernel& kernel : kernels) {
+        for (int i = 0; i < 6; i++)
+            kernel->addArg();
+        kernel->addArg(bodyPosition);
+        kernel->addArg(bodyVelocity);
+        kernel->addArg(bodyAngularMomentum);
+        kernel->addArg(bodyRotation);
+        kernel->addArg(bodyType);
+        kernel->addArg(bodyAtomStart);
+        kernel->addArg(atomSlot);
+        kernel->addArg(atomCoords);
+        kernel->addArg(atomCellOffset);
+        kernel->addArg(cc.getLongForceBuffer());
+        kernel->addArg(typeParams);
+        kernel->addArg(typeInfo);
+        kernel->addArg(cc.getIntegrationUtilities().getRandom());
+        kernel->addArg();  // random index
+        kernel->addArg();  // random numbers per body
+        kernel->addArg(centerOfMassVelocity);
+        kernel->addArg(periodic ? 1 : 0);
+        for (int i = 0; i < 3; i++)
+            kernel->addArg();  // periodic box vectors
+        kernel->addArg(bodyImage);
+        kernel->addArg(cc.getPosq());
+        kernel->addArg(cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq());
+        kernel->addArg(cc.getVelm());
+    }
+}
+
+vector<ComputeKernel>& CommonIntegrateRigidLangevinStepKernel::stepKernelsFor(RigidLangevinIntegrator::Scheme scheme) {
+    vector<ComputeKernel>& kernels = stepKernels[scheme];
+    if (kernels.empty()) {
+        ComputeProgram program = cc.compileProgram(RigidBodyKernelLayout::source(),
+                RigidBodyKernelLayout::defines(cc.getPaddedNumAtoms(), mixedIsDouble, scheme));
+        for (int group = 0; group < NumStepGroups; group++)
+            kernels.push_back(program->createKernel(stepKernelName(group)));
+        if (hasSetArguments) {
+            setStepArguments(kernels);
+            setBoxArguments();
+        }
+    }
+    return kernels;
+}
+
 void CommonIntegrateRigidLangevinStepKernel::setBoxArguments() {
     Vec3 box[3];
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
     for (int i = 0; i < 3; i++) {
         setMixed4Arg(placeKernel, PlaceBox+i, box[i], mixedIsDouble);
-        for (ComputeKernel& kernel : stepKernels)
-            setMixed4Arg(kernel, StepBox+i, box[i], mixedIsDouble);
+        for (auto& scheme : stepKernels)
+            for (ComputeKernel& kernel : scheme.second)
+                setMixed4Arg(kernel, StepBox+i, box[i], mixedIsDouble);
     }
 }
 
 void CommonIntegrateRigidLangevinStepKernel::placeAtoms() {
     if (numEntries == 0)
         return;
-    placeKernel->execute(numEntries);
+    placeKernel->execute(numBodies);
 }
 
 template <class Mixed, class Mixed4>
@@ -426,6 +450,7 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
             numRandom += randomFloat4PerBody(g, scheme, frictionless)*(groupStart[g+1]-groupStart[g]);
         int randomIndex = (numRandom > 0 ? integration.prepareRandomNumbers(numRandom) : 0);
         bool renormalize = (!mixedIsDouble && cc.getStepCount()%OrthonormalizationInterval == 0);
+        vector<ComputeKernel>& kernels = stepKernelsFor(scheme);
         if (periodic)
             setBoxArguments();
         for (int g = 0; g < NumStepGroups; g++) {
@@ -433,10 +458,9 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
             if (count == 0)
                 continue;
             int perBody = randomFloat4PerBody(g, scheme, frictionless);
-            ComputeKernel& kernel = stepKernels[g];
+            ComputeKernel& kernel = kernels[g];
             kernel->setArg(StepFirst, groupStart[g]);
             kernel->setArg(StepLast, groupStart[g+1]);
-            kernel->setArg(StepScheme, (int) scheme);
             kernel->setArg(StepFrictionless, frictionless ? 1 : 0);
             setMixedArg(kernel, StepSize, h, mixedIsDouble);
             kernel->setArg(StepRemoveMotion, removeMotion ? 1 : 0);
@@ -446,7 +470,6 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
             kernel->execute(count);
             randomIndex += perBody*count;
         }
-        placeAtoms();
     }
     integration.computeVirtualSites();
     cc.setTime(cc.getTime()+h);

@@ -4,6 +4,7 @@
 #include "internal/RigidLangevinStepKernelBase.h"
 #include "openmm/common/ComputeArray.h"
 #include "openmm/common/ComputeContext.h"
+#include <map>
 #include <vector>
 
 namespace RigidLangevinPlugin {
@@ -16,8 +17,8 @@ namespace RigidLangevinPlugin {
  * Diagonal, Coupled) and one number of rotations (0, 2, 3): bodies are sorted by group, then type,
  * so that no class pays for another's work and each kernel is compiled for its number of
  * coordinates. One work item per body: gather force and torque from OpenMM's fixed-point force
- * buffer, kick, flow. Then one work item
- * per particle places the particles, and the platform computes virtual sites. Noise comes from
+ * buffer, kick, flow, and place the body's particles; then the platform computes virtual sites. The
+ * scheme is compiled into the step kernels (one program per scheme, compiled when first used). Noise comes from
  * OpenMM's IntegrationUtilities random numbers, so its state is part of the platform's checkpoint.
  *
  * Body states are kept in the platform's "mixed" precision (double in mixed and double precision).
@@ -45,6 +46,9 @@ private:
     /** Find where each body particle is stored now, and its periodic cell offset. */
     void updateAtomSlots();
     void setKernelArguments();
+    void setStepArguments(std::vector<OpenMM::ComputeKernel>& kernels);
+    /** The step kernels of a scheme (one per step group), compiled and given their arguments on first use. */
+    std::vector<OpenMM::ComputeKernel>& stepKernelsFor(RigidLangevinIntegrator::Scheme scheme);
     void placeAtoms();
     void uploadTypeParameters();
     /** (Re)size the arrays stored in the platform's mixed precision. */
@@ -67,10 +71,10 @@ private:
     std::vector<double> hostTypeParams;  // TypeStride values per type, in double precision
     std::vector<OpenMM::mm_int4> hostTypeInfo;  // per type: dof, numRotations, halfSteps, friction class
     OpenMM::ComputeArray bodyPosition, bodyVelocity, bodyAngularMomentum, bodyRotation, bodyType, bodyAtomStart;
-    OpenMM::ComputeArray atomBody, atomSlot, atomCoords, atomCellOffset;
+    OpenMM::ComputeArray atomSlot, atomCoords, atomCellOffset;
     OpenMM::ComputeArray bodyImage;      // int4 per body: the periodic boxes its stored centre is short of the true one
     OpenMM::ComputeArray typeParams, typeInfo, centerOfMassVelocity, kineticEnergies;
-    std::vector<OpenMM::ComputeKernel> stepKernels;  // one per step group
+    std::map<int, std::vector<OpenMM::ComputeKernel> > stepKernels;  // per scheme: one per step group
     OpenMM::ComputeKernel placeKernel, centerOfMassKernel, kineticEnergyKernel;
 };
 

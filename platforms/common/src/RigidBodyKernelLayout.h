@@ -2,6 +2,7 @@
 #define RIGID_BODY_KERNEL_LAYOUT_H_
 
 #include "CommonRigidLangevinKernelSources.h"
+#include "RigidLangevinIntegrator.h"
 #include "internal/BodyDynamics.h"
 #include <map>
 #include <sstream>
@@ -71,9 +72,12 @@ inline std::string source() {
  *
  * @param paddedNumAtoms  the context's padded number of atoms (the force buffer's stride)
  * @param mixedIsDouble   whether the device's "mixed" type is double (literals get no f suffix)
+ * @param scheme          the scheme the step kernels are compiled for (STEP_SCHEME; its value is
+ *                        the SCHEME_* constant of rigidBodyStep.cc)
  */
-inline std::map<std::string, std::string> defines(int paddedNumAtoms, bool mixedIsDouble) {
+inline std::map<std::string, std::string> defines(int paddedNumAtoms, bool mixedIsDouble, RigidLangevinIntegrator::Scheme scheme) {
     std::map<std::string, std::string> d;
+    d["STEP_SCHEME"] = std::to_string((int) scheme);
     d["PADDED_NUM_ATOMS"] = std::to_string(paddedNumAtoms);
     d["TYPE_STRIDE"] = std::to_string((int) TypeStride);
     d["TP_TO_MODES"] = std::to_string((int) ToModes);

@@ -80,8 +80,8 @@ std::string stickyDipolePairKernel() {
     return src.str();
 }
 
-/** The source CudaContext::compileProgram builds for the plugin's kernels in one precision. */
-std::string compositeSource(const CudaPrelude& prelude, const std::string& precision) {
+/** The source CudaContext::compileProgram builds for the plugin's kernels in one precision and scheme. */
+std::string compositeSource(const CudaPrelude& prelude, const std::string& precision, RigidLangevinIntegrator::Scheme scheme) {
     bool doublePrecision = (precision == "double"), mixedIsDouble = (precision != "single");
     std::string real = (doublePrecision ? "double" : "float"), mixed = (mixedIsDouble ? "double" : "float");
     std::ostringstream src;
@@ -99,7 +99,7 @@ std::string compositeSource(const CudaPrelude& prelude, const std::string& preci
     // CudaContext's math defines (those the plugin's source uses).
     src << "#define SQRT " << (doublePrecision ? "sqrt" : "sqrtf") << "\n#define RSQRT " << (doublePrecision ? "rsqrt" : "rsqrtf") << "\n";
     src << *prelude.common << "\n";
-    for (auto& define : RigidBodyKernelLayout::defines(1024, mixedIsDouble))
+    for (auto& define : RigidBodyKernelLayout::defines(1024, mixedIsDouble, scheme))
         src << "#define " << define.first << " " << define.second << "\n";
     src << *prelude.vectorOps << RigidBodyKernelLayout::source() << "\n";
     src << CommonRigidLangevinKernelSources::stickyDipoleSites << "\n";
@@ -109,14 +109,15 @@ std::string compositeSource(const CudaPrelude& prelude, const std::string& preci
 
 } // namespace
 
-TEST(CudaKernelSources, CompileInEveryPrecision) {
+TEST(CudaKernelSources, CompileInEveryPrecisionAndScheme) {
     CudaPrelude prelude = loadPrelude();
     if (!prelude.installed)
         GTEST_SKIP() << "CUDA kernel compilation check not possible: " << prelude.error;
     ASSERT_TRUE(prelude.error.empty()) << "OpenMM's CUDA platform library is installed but unusable: " << prelude.error;
-    for (std::string precision : {"single", "mixed", "double"}) {
-        SCOPED_TRACE(precision+" precision");
-        std::string source = compositeSource(prelude, precision);
+    for (std::string precision : {"single", "mixed", "double"})
+    for (RigidLangevinIntegrator::Scheme scheme : {RigidLangevinIntegrator::ExactFlow, RigidLangevinIntegrator::BAOAB, RigidLangevinIntegrator::Original}) {
+        SCOPED_TRACE(precision+" precision, scheme "+std::to_string((int) scheme));
+        std::string source = compositeSource(prelude, precision, scheme);
         nvrtcProgram program;
         ASSERT_EQ(NVRTC_SUCCESS, nvrtcCreateProgram(&program, source.c_str(), "rigidLangevin.cu", 0, nullptr, nullptr));
         // The CUDA platform's default options, for the oldest architecture this toolkit supports.
@@ -133,6 +134,6 @@ TEST(CudaKernelSources, CompileInEveryPrecision) {
         nvrtcGetProgramLog(program, &log[0]);
         nvrtcDestroyProgram(&program);
         EXPECT_EQ(NVRTC_SUCCESS, result) << log;
-        std::cout << precision << " precision: compiled for " << arch << std::endl;
+        std::cout << precision << " precision, scheme " << scheme << ": compiled for " << arch << std::endl;
     }
 }

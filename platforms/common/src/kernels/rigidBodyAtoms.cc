@@ -65,12 +65,12 @@ DEVICE void loadBodyForce(int body, int numRotations, const mixed* q, GLOBAL con
 }
 
 /**
- * Keep a body's centre in the periodic box, counting the boxes it has left in bodyImage, so that
- * single precision resolves it as well after any diffusion as at the start: its true position is
- * the stored one plus image.x a + image.y b + image.z c (OpenMM's reduced box vectors a, b, c).
- * The image is read and written only when the centre leaves the box.
+ * Keep a body's centre in the periodic box, counting the boxes it has left in image, so that single
+ * precision resolves it as well after any diffusion as at the start: its true position is r plus
+ * image.x a + image.y b + image.z c (OpenMM's reduced box vectors a, b, c). Returns whether the
+ * image changed (the caller writes it back only then).
  */
-DEVICE void keepInBox(mixed* r, int body, GLOBAL int4* RESTRICT bodyImage, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ) {
+DEVICE bool keepInBox(mixed* r, int4* image, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ) {
     int sz = (int) floor(r[2]/boxVecZ.z);
     r[0] -= sz*boxVecZ.x;
     r[1] -= sz*boxVecZ.y;
@@ -80,69 +80,97 @@ DEVICE void keepInBox(mixed* r, int body, GLOBAL int4* RESTRICT bodyImage, mixed
     r[1] -= sy*boxVecY.y;
     int sx = (int) floor(r[0]/boxVecX.x);
     r[0] -= sx*boxVecX.x;
-    if (sx != 0 || sy != 0 || sz != 0) {
-        int4 image = bodyImage[body];
-        bodyImage[body] = make_int4(image.x+sx, image.y+sy, image.z+sz, 0);
-    }
+    if (sx == 0 && sy == 0 && sz == 0)
+        return false;
+    *image = make_int4(image->x+sx, image->y+sy, image->z+sz, 0);
+    return true;
 }
 
 /**
- * Place every particle of every body from the body states, one work item per particle:
- * r = R + Q^T b and v = V + Q^T (omega x b), with omega the body-frame angular velocity. Positions
- * are stored shifted by the atom's periodic cell offset, as OpenMM keeps them, and by the boxes its
- * body has left (bodyImage): both are whole boxes, added before they meet the coordinates. Charges
- * (posq.w) and inverse masses (velm.w) are left alone.
+ * Place the particles of one body from its state: r = R + Q^T c and v = V + Q^T (omega x c), with
+ * omega the body-frame angular velocity (zero for a body that does not rotate). Positions are
+ * stored shifted by the atom's periodic cell offset, as OpenMM keeps them, and by the boxes the
+ * body has left (image): both are whole boxes, added before they meet the coordinates. Charges
+ * (posq.w) and inverse masses (velm.w) are left alone. q holds the rotation if haveRotation; a
+ * body that does not rotate may skip loading it, and it is read here only for a particle off the
+ * centre (a massless site of a point body).
  */
-KERNEL void placeBodyAtoms(int numEntries, GLOBAL const int* RESTRICT atomBody, GLOBAL const int* RESTRICT atomSlot,
-        GLOBAL const mixed4* RESTRICT atomCoords, GLOBAL const int4* RESTRICT atomCellOffset,
-        GLOBAL const mixed4* RESTRICT bodyPosition, GLOBAL const mixed4* RESTRICT bodyVelocity,
-        GLOBAL const mixed4* RESTRICT bodyAngularMomentum, GLOBAL const mixed4* RESTRICT bodyRotation,
-        GLOBAL const int* RESTRICT bodyType, GLOBAL const mixed* RESTRICT typeParams, GLOBAL const int4* RESTRICT typeInfo,
-        GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, GLOBAL mixed4* RESTRICT velm,
-        mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ, GLOBAL const int4* RESTRICT bodyImage) {
-    for (int entry = GLOBAL_ID; entry < numEntries; entry += GLOBAL_SIZE) {
-        int body = atomBody[entry];
-        int type = bodyType[body];
-        int numRotations = typeInfo[type].y;
-        mixed q[9], c[3], offset[3], position[3], velocity[3];
-        loadRotation(bodyRotation, body, q);
+DEVICE void placeBodyParticles(int body, int numRotations, int haveRotation, const mixed* q, const mixed* position,
+        const mixed* velocity, const mixed* omega, int4 image, GLOBAL const mixed4* RESTRICT bodyRotation,
+        GLOBAL const int* RESTRICT bodyAtomStart, GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT atomCoords,
+        GLOBAL const int4* RESTRICT atomCellOffset, GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection,
+        GLOBAL mixed4* RESTRICT velm, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ) {
+    int end = bodyAtomStart[body+1];
+    for (int entry = bodyAtomStart[body]; entry < end; entry++) {
+        mixed c[3], offset[3] = {0, 0, 0};
         loadVector(atomCoords, entry, c);
-        loadVector(bodyPosition, body, position);
-        loadVector(bodyVelocity, body, velocity);
-        vectorToLabFrame(q, c, offset);
+        if (haveRotation)
+            vectorToLabFrame(q, c, offset);
+        else if (c[0] != 0 || c[1] != 0 || c[2] != 0) {
+            mixed rotation[9];
+            loadRotation(bodyRotation, body, rotation);
+            vectorToLabFrame(rotation, c, offset);
+        }
         int slot = atomSlot[entry];
         int4 cell = atomCellOffset[entry];
-        int4 image = bodyImage[body];
         cell = make_int4(cell.x+image.x, cell.y+image.y, cell.z+image.z, 0);
         mixed3 shift = make_mixed3(cell.x*boxVecX.x+cell.y*boxVecY.x+cell.z*boxVecZ.x,
                                    cell.y*boxVecY.y+cell.z*boxVecZ.y,
                                    cell.z*boxVecZ.z);
         mixed3 pos = make_mixed3(position[0]+offset[0]+shift.x, position[1]+offset[1]+shift.y, position[2]+offset[2]+shift.z);
-#ifdef USE_MIXED_PRECISION
         real4 stored = posq[slot];
+#ifdef USE_MIXED_PRECISION
         posq[slot] = make_real4((real) pos.x, (real) pos.y, (real) pos.z, stored.w);
         posqCorrection[slot] = make_real4(pos.x-(real) pos.x, pos.y-(real) pos.y, pos.z-(real) pos.z, 0);
 #else
-        real4 stored = posq[slot];
         posq[slot] = make_real4(pos.x, pos.y, pos.z, stored.w);
 #endif
         mixed4 v = velm[slot];
+        v.x = velocity[0];
+        v.y = velocity[1];
+        v.z = velocity[2];
         if (numRotations > 0) {
-            GLOBAL const mixed* inertia = &typeParams[type*TYPE_STRIDE+TP_MASS+1];
-            mixed4 j = bodyAngularMomentum[body];
-            mixed omega[3] = {(numRotations == 3 ? j.x/inertia[0] : 0), j.y/inertia[1], j.z/inertia[2]};
             mixed w[3], labW[3];
             crossProduct(omega, c, w);
             vectorToLabFrame(q, w, labW);
-            v.x = velocity[0]+labW[0];
-            v.y = velocity[1]+labW[1];
-            v.z = velocity[2]+labW[2];
-        }
-        else {
-            v.x = velocity[0];
-            v.y = velocity[1];
-            v.z = velocity[2];
+            v.x += labW[0];
+            v.y += labW[1];
+            v.z += labW[2];
         }
         velm[slot] = v;
+    }
+}
+
+/** The body-frame angular velocity from the angular momentum about the axes that rotate. */
+DEVICE void angularVelocity(int numRotations, const mixed* angularMomentum, const mixed* inertia, mixed* omega) {
+    omega[0] = (numRotations == 3 ? angularMomentum[0]/inertia[0] : 0);
+    omega[1] = (numRotations > 0 ? angularMomentum[1]/inertia[1] : 0);
+    omega[2] = (numRotations > 0 ? angularMomentum[2]/inertia[2] : 0);
+}
+
+/**
+ * Place every particle of every body from the body states, one work item per body (the step kernels
+ * place their bodies' particles themselves; this is for states set from the host).
+ */
+KERNEL void placeBodyAtoms(int numBodies, GLOBAL const mixed4* RESTRICT bodyPosition, GLOBAL const mixed4* RESTRICT bodyVelocity,
+        GLOBAL const mixed4* RESTRICT bodyAngularMomentum, GLOBAL const mixed4* RESTRICT bodyRotation,
+        GLOBAL const int* RESTRICT bodyType, GLOBAL const mixed* RESTRICT typeParams, GLOBAL const int4* RESTRICT typeInfo,
+        GLOBAL const int4* RESTRICT bodyImage, GLOBAL const int* RESTRICT bodyAtomStart, GLOBAL const int* RESTRICT atomSlot,
+        GLOBAL const mixed4* RESTRICT atomCoords, GLOBAL const int4* RESTRICT atomCellOffset,
+        GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, GLOBAL mixed4* RESTRICT velm,
+        mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ) {
+    for (int body = GLOBAL_ID; body < numBodies; body += GLOBAL_SIZE) {
+        int type = bodyType[body];
+        int numRotations = typeInfo[type].y;
+        mixed q[9], position[3], velocity[3], angularMomentum[3], inertia[3], omega[3];
+        for (int i = 0; i < 3; i++)
+            inertia[i] = typeParams[type*TYPE_STRIDE+TP_MASS+1+i];
+        loadRotation(bodyRotation, body, q);
+        loadVector(bodyPosition, body, position);
+        loadVector(bodyVelocity, body, velocity);
+        loadVector(bodyAngularMomentum, body, angularMomentum);
+        angularVelocity(numRotations, angularMomentum, inertia, omega);
+        placeBodyParticles(body, numRotations, 1, q, position, velocity, omega, bodyImage[body], bodyRotation, bodyAtomStart,
+                atomSlot, atomCoords, atomCellOffset, posq, posqCorrection, velm, boxVecX, boxVecY, boxVecZ);
     }
 }
