@@ -98,8 +98,8 @@ def test_configurational_temperature_verdict_pairs_runs_by_start(tmp_path):
 
 def test_traffic_model_bounds_and_matches_the_h100_profiles():
     """benchmarks/platforms/traffic.py: every kernel moves at least the minimum, and the model agrees
-    with the H100's measured DRAM bytes within 15 %, kernel by kernel: the placement kernel and the
-    random numbers before the fusion; the step kernel once it kept its arrays in registers (before,
+    with the H100's measured DRAM bytes kernel by kernel: within 15 % the placement kernel and the
+    random numbers before the fusion; within 8 % the step kernel once it kept its arrays in registers (before,
     local memory doubled it: that excess is what the table reports, and is not modelled); the fused
     step kernel, in mixed and single precision."""
     sys.path.insert(0, str(ROOT/'benchmarks'/'platforms'))
@@ -118,6 +118,9 @@ def test_traffic_model_bounds_and_matches_the_h100_profiles():
     model = traffic.common_before(3, 'mixed')
     assert abs(before['placeBodyAtoms']/model['placeBodyAtoms']-1) < 0.15
     assert abs(before['generateRandomNumbers']/model['generateRandomNumbers']-1) < 0.15
-    assert abs(registers['stepCoupledBodies3']/model['step']-1) < 0.15
-    assert abs(fused['stepCoupledBodies3']/traffic.common_current(3, 'mixed')['step']-1) < 0.15
-    assert abs(fused_single['stepCoupledBodies3']/traffic.common_current(3, 'single')['step']-1) < 0.15
+    # The step kernels' models are held to 8 %: they came within 5 % of all three profiles, and a
+    # model that forgot the cell offsets or the posqCorrection write (48 bytes) fails here: the mixed
+    # profile would read 9.9 % above it.
+    assert abs(registers['stepCoupledBodies3']/model['step']-1) < 0.08
+    assert abs(fused['stepCoupledBodies3']/traffic.common_current(3, 'mixed')['step']-1) < 0.08
+    assert abs(fused_single['stepCoupledBodies3']/traffic.common_current(3, 'single')['step']-1) < 0.08
