@@ -94,6 +94,15 @@ def test_configurational_temperature_verdict_pairs_runs_by_start(tmp_path):
     assert float(lines['- BAOAB 4.0 fs'].split('; ')[-1].split()[0]) < 4
     with open(tmp_path/'configurational.csv') as f:
         assert len(list(csv.DictReader(f))) == 96
+    # Replicas appended to a CSV of earlier ones (study.py --tconf-append) give the same table as
+    # one run of all: the CSV reads back with the types that pair runs with their peer and starts.
+    table = (tmp_path/'configurational.md').read_text()
+    first = tmp_path/'first'
+    report.write_configurational(first, [r for r in records if r['replica'] < 16], 300.0, peer=('ExactFlow', 1.0))
+    earlier = report.read_csv(first/'configurational.csv')
+    assert len(earlier) == 48 and all(isinstance(r['replica'], int) and isinstance(r['step (fs)'], float) for r in earlier)
+    report.write_configurational(first, earlier+[r for r in records if r['replica'] >= 16], 300.0, peer=('ExactFlow', 1.0))
+    assert (first/'configurational.md').read_text() == table
 
 
 def test_traffic_model_bounds_and_matches_the_h100_profiles():

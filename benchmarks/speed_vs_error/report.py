@@ -33,6 +33,20 @@ def write_csv(path, rows):
         writer.writerows(rows)
 
 
+def read_csv(path):
+    """Rows written by write_csv, numbers as numbers and empty cells left out."""
+    with open(path) as f:
+        return [{k: number(v) for k, v in r.items() if v != ''} for r in csv.DictReader(f)]
+
+
+def number(text):
+    try:
+        value = float(text)
+    except ValueError:
+        return text
+    return int(value) if text.lstrip('-').isdigit() else value
+
+
 def write(out, rows, stability):
     out.mkdir(parents=True, exist_ok=True)
     write_csv(out/'results.csv', rows)

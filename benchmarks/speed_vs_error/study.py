@@ -399,21 +399,22 @@ TCONF_RUNS = [('ExactFlow', 1.0), ('ExactFlow', 4.0), ('BAOAB', 4.0)]
 TCONF_SPACING_PS = 10.0
 
 
-def configurational_temperature(args, ranks):
+def configurational_temperature(args, ranks, first_replica=0):
     """Runs TCONF_RUNS from args.tconf_replicas starts (one chain of starts per rank); returns one
-    record per run on rank 0 (None elsewhere)."""
+    record per run on rank 0 (None elsewhere). Replicas are numbered from first_replica, and their
+    chains and noise are seeded by it, so that runs appended to earlier ones are independent of them."""
     n = args.tconf_replicas
-    chains = [{'count': -(-n//ranks), 'seed': 50+k} for k in range(ranks)]
+    chains = [{'count': -(-n//ranks), 'seed': 50+first_replica+k} for k in range(ranks)]
     starts = distribute(lambda task: prepare_starts(args, task['count'], task['seed'], args.threads, TCONF_SPACING_PS),
                         chains, 'T configurational: starting configurations (0.01 P)')
     args.starts = broadcast([s for chain in starts for s in chain][:n] if starts is not None else None)
-    tasks = [{'viscosity': TCONF_VISCOSITY, 'integrator': name, 'step_fs': h, 'seed': 300+r, 'replica': r, 'args': args}
+    tasks = [{'viscosity': TCONF_VISCOSITY, 'integrator': name, 'step_fs': h, 'seed': 300+first_replica+r, 'replica': r, 'args': args}
              for name, h in TCONF_RUNS for r in range(n)]
     results = distribute(run_water, tasks, f'T configurational at {TCONF_VISCOSITY} P')
     if results is None:
         return None
     keys = ['T configurational (K)', 'potential per molecule (kJ/mol)', 'T translational (K)', 'T rotational (K)']
-    return [{'integrator': t['integrator'], 'step (fs)': t['step_fs'], 'replica': t['replica'], 'status': r['status'],
+    return [{'integrator': t['integrator'], 'step (fs)': t['step_fs'], 'replica': first_replica+t['replica'], 'status': r['status'],
              **{k: r[k] for k in keys if k in r}} for t, r in zip(tasks, results)]
 
 
@@ -476,6 +477,9 @@ def main(argv=None):
     parser.add_argument('--out', default='out/speed_vs_error')
     parser.add_argument('--threads', type=int, default=0, help='CPU threads per Context (default: cores / MPI ranks)')
     parser.add_argument('--parts', default='s1,s2,stability,tconf', help='which parts to run (default all)')
+    parser.add_argument('--tconf-replicas', type=int, default=0, help='replicas of part tconf (default 32)')
+    parser.add_argument('--tconf-append', action='store_true',
+                        help="add part tconf's replicas to those in --out's configurational.csv (new starts and seeds)")
     args = parser.parse_args(argv)
     ranks = int(os.environ.get('OMPI_COMM_WORLD_SIZE', os.environ.get('PMI_SIZE', '1')))
     if args.threads == 0:
@@ -486,7 +490,7 @@ def main(argv=None):
     args.equilibration_ps, args.production_ps, args.reference_ps = (0.2, 1.5, 2.0) if args.quick else (1.0, 15.0, 25.0)
     args.free_bodies, args.free_body_time, args.helicoid_ps = (10, 4, 5.0) if args.quick else (200, 100, 200.0)
     args.stability_steps = 200 if args.quick else 100000
-    args.tconf_replicas = 2 if args.quick else 32
+    args.tconf_replicas = args.tconf_replicas or (2 if args.quick else 32)
     viscosities = [0.01, 0.1, 1.0]
     water_steps = [1.0, 2.0, 4.0]
     free_steps = [1.0, 2.0, 4.0, 8.0, 16.0]
@@ -546,16 +550,16 @@ def main(argv=None):
 
     out = pathlib.Path(args.out)
     if 'tconf' in parts:
-        records = configurational_temperature(args, ranks)
+        earlier = report.read_csv(out/'configurational.csv') if args.tconf_append else []
+        records = configurational_temperature(args, ranks, first_replica=1+max((int(r['replica']) for r in earlier), default=-1))
         if records is not None:
+            records = earlier+records
             report.write_configurational(out, records, TEMPERATURE, peer=TCONF_RUNS[0])
 
     if rows and (out/'results.csv').exists():
         # A run of some parts keeps the other scenes' rows of an earlier run (S1 before S2).
         scenes = {r['scene'].split(' (')[0] for r in rows}
-        with open(out/'results.csv') as f:
-            kept = [{k: number(v) for k, v in r.items() if v != ''} for r in csv.DictReader(f)
-                    if r['scene'].split(' (')[0] not in scenes]
+        kept = [r for r in report.read_csv(out/'results.csv') if r['scene'].split(' (')[0] not in scenes]
         rows = sorted(rows+kept, key=lambda r: r['scene'][:2])
     if rows and not stability and (out/'stability.csv').exists():
         # A run of some parts keeps the stability table of an earlier full run.
@@ -564,13 +568,6 @@ def main(argv=None):
     if rows or stability:
         report.write(out, rows, stability)
     return 0
-
-
-def number(text):
-    try:
-        return float(text)
-    except ValueError:
-        return text
 
 
 def row(scene, viscosity, task, result, error):
