@@ -6,12 +6,14 @@ conditions, reproduced in Fennell's dissertation, waterChapter.tex) give for the
     SSD/E    density 0.996(1) g/cm^3   self-diffusion 2.51(18) 1e-5 cm^2/s
     SSD/RF   density 0.997(1) g/cm^3   self-diffusion 2.32(6)  1e-5 cm^2/s
 
-The set-up is the one the authors' code ran these models with (OOPSE 2.0's samples, in the
-OpenMD/OpenMD repository: samples/water/ssde/ssde.md and samples/water/ssdrf/ssdrf.md): 256
-molecules, 9 A cutoff, cubic switch from 7.7 A, SSD/E without a reaction field and SSD/RF with one
-of dielectric 80; dipole only (OOPSE's 2004 force field gives these types no quadrupole). As in the
-paper the diffusion constant is the average of five NVE runs, from the mean-square displacement of
-the molecules' centres, without a finite-size correction (so it is that of a 256-molecule box).
+The set-up is the one the authors' code ran these models with (OOPSE, in the OpenMD/OpenMD
+repository): 256 molecules, 9 A cutoff, SSD/E without a reaction field and SSD/RF with one of
+dielectric 80; dipole only (OOPSE's 2004 force field gives these types no quadrupole); the pair
+energy switched by a cubic to zero at the cutoff. Where the switch starts the paper does not say:
+OOPSE 2.0's samples set 7.7 A, and its set-up chose 0.95 of the cutoff (8.55 A) for a
+reaction-field run that set none; SSD/RF is run with both (CASES). As in the paper the diffusion
+constant is the average of five NVE runs, from the mean-square displacement of the molecules'
+centres, without a finite-size correction (so it is that of a 256-molecule box).
 
 Per model:
 1. The lattice is minimised, melted at 400 K and brought to 298 K at constant volume, then run at
@@ -28,7 +30,7 @@ Per model:
 
 Writes table.md and properties.csv to --out.
 
-    python examples/ssd_properties.py              # about 25 minutes on 2 cores
+    python examples/ssd_properties.py              # about 27 minutes on 2 cores (9 per row)
     python examples/ssd_properties.py --quick      # a minute: the machinery, not the numbers
 """
 import argparse
@@ -48,7 +50,12 @@ from rigidlangevin.statistics import block_error, standard_error
 PUBLISHED = {'SSD/E': (0.996, 0.001, 2.51, 0.18), 'SSD/RF': (0.997, 0.001, 2.32, 0.06)}
 REACTION_FIELD = {'SSD/E': 1.0, 'SSD/RF': 80.0}  # dielectric 1: no reaction field
 MOLECULES = 256
-CUTOFF, SWITCH = 0.9, 0.77  # nm
+CUTOFF = 0.9  # nm
+#: (model, switching distance in A). 7.7 A is what the authors' OOPSE 2.0 samples set
+#: (samples/water/ssde/ssde.md, ssdrf/ssdrf.md); 8.55 A (0.95 of the cutoff) is what OOPSE's set-up
+#: (SimSetup.cpp, 2004) chose for a reaction-field run that set none. The paper does not say which
+#: its runs had; SSD/RF is run with both.
+CASES = [('SSD/E', 7.7), ('SSD/RF', 8.55), ('SSD/RF', 7.7)]
 TEMPERATURE, PRESSURE = 298.0, 1.01325  # K, bar
 STEP = 0.002  # ps
 AVOGADRO = 6.02214076e23
@@ -177,9 +184,60 @@ def nve_runs(topology, system, positions, edge, platform, args, seed):
     return runs
 
 
+def measure(model, switch, platform, args, seed):
+    """One row of the table: model and switching distance (A) -> density, energy, D and their errors."""
+    start = time.perf_counter()
+    topology, system, positions = rl.ssd.waterBox(MOLECULES, model=model, cutoff=CUTOFF*unit.nanometer,
+                                                  switchingDistance=switch*unit.angstrom,
+                                                  reactionFieldDielectric=REACTION_FIELD[model])
+    densities, energies, state = npt(system, positions, platform, args, seed)
+    rho, rho_error = float(np.mean(densities)), block_error(densities)
+    nve_system, scaled, edge = at_density(topology, system, state, rho)
+    runs = nve_runs(topology, nve_system, scaled, edge, platform, args, seed+12)
+    d = [r['D']*1000 for r in runs]  # nm^2/ps = 1e-2 cm^2/s = 1000 x 1e-5 cm^2/s
+    published = PUBLISHED[model]
+    row = {'model': model, 'switching distance (A)': switch, 'density (g/cm^3)': rho, 'density +-': rho_error,
+           'potential per molecule (kJ/mol)': float(np.mean(energies)), 'potential per molecule +-': block_error(energies),
+           'D (1e-5 cm^2/s)': float(np.mean(d)), 'D +-': standard_error(d),
+           'NVE T (K)': float(np.mean([r['T'] for r in runs])), 'NVE T +-': standard_error([r['T'] for r in runs]),
+           'largest NVE drift (kJ/mol/ns per molecule)': max(abs(r['drift']) for r in runs),
+           'published density': published[0], 'published density +-': published[1],
+           'published D': published[2], 'published D +-': published[3],
+           'box edge at the mean density (nm)': edge, 'minutes': (time.perf_counter()-start)/60}
+    for key, value, error in (('density', rho, rho_error), ('D', row['D (1e-5 cm^2/s)'], row['D +-'])):
+        row[key+' minus published, in standard errors'] = (value-row['published '+key])/math.hypot(error, row['published '+key+' +-'])
+    return row
+
+
+def write(out, rows, args):
+    """properties.csv and table.md."""
+    with open(out/'properties.csv', 'w', newline='') as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    lines = [f'{MOLECULES} molecules, {TEMPERATURE:g} K, 1 atm, {CUTOFF*10:g} A cutoff. '
+             f'Density: {args.npt_ps:g} ps of LangevinMiddleIntegrator + MonteCarloBarostat (block standard errors). '
+             f'D: {args.nve_runs} NVE runs of {args.nve_ps:g} ps under RigidLangevinIntegrator at zero viscosity at the mean density, '
+             f'MSD slope over {args.msd_lags[0]:g}-{args.msd_lags[1]:g} ps (standard error over runs). '
+             'Published: Fennell & Gezelter, J. Chem. Phys. 120, 9175 (2004). Differences in combined standard errors.', '',
+             '| model | switched from (A) | density (g/cm³) | published | difference (SE) | D (1e-5 cm²/s) | published | difference (SE) | '
+             'potential per molecule (kJ/mol) | NVE T (K) | largest NVE drift (kJ/mol/ns per molecule) |',
+             '|---|---|---|---|---|---|---|---|---|---|---|']
+    for r in rows:
+        lines.append(f"| {r['model']} | {r['switching distance (A)']:g} | {r['density (g/cm^3)']:.4f} ± {r['density +-']:.4f} | "
+                     f"{r['published density']} ± {r['published density +-']} | "
+                     f"{r['density minus published, in standard errors']:+.1f} | {r['D (1e-5 cm^2/s)']:.2f} ± {r['D +-']:.2f} | "
+                     f"{r['published D']} ± {r['published D +-']} | {r['D minus published, in standard errors']:+.1f} | "
+                     f"{r['potential per molecule (kJ/mol)']:.2f} ± {r['potential per molecule +-']:.2f} | "
+                     f"{r['NVE T (K)']:.1f} ± {r['NVE T +-']:.1f} | {r['largest NVE drift (kJ/mol/ns per molecule)']:.2g} |")
+    (out/'table.md').write_text('\n'.join(lines)+'\n')
+    print('\n'.join(lines))
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    parser.add_argument('--models', default='SSD/E,SSD/RF')
+    parser.add_argument('--models', default='SSD/E,SSD/RF', help='which models of CASES to run (default both)')
+    parser.add_argument('--switch', type=float, help='one switching distance (A) for every model instead of CASES')
     parser.add_argument('--platform', default='CPU')
     parser.add_argument('--quick', action='store_true', help='short runs of the same steps: the machinery, not the numbers')
     parser.add_argument('--out', default='ssd_properties', help='directory for the results')
@@ -193,50 +251,13 @@ def main(argv=None):
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     platform = mm.Platform.getPlatformByName(args.platform)
+    models = args.models.split(',')
+    cases = [(m, s) for m, s in CASES if m in models] if args.switch is None else [(m, args.switch) for m in models]
     rows = []
-    for n, model in enumerate(args.models.split(',')):
-        start = time.perf_counter()
-        topology, system, positions = rl.ssd.waterBox(MOLECULES, model=model, cutoff=CUTOFF*unit.nanometer,
-                                                      switchingDistance=SWITCH*unit.nanometer,
-                                                      reactionFieldDielectric=REACTION_FIELD[model])
-        densities, energies, state = npt(system, positions, platform, args, seed=17+n)
-        rho, rho_error = float(np.mean(densities)), block_error(densities)
-        nve_system, scaled, edge = at_density(topology, system, state, rho)
-        runs = nve_runs(topology, nve_system, scaled, edge, platform, args, seed=29+n)
-        d = [r['D']*1000 for r in runs]  # nm^2/ps = 1e-2 cm^2/s = 1000 x 1e-5 cm^2/s
-        published = PUBLISHED[model]
-        row = {'model': model, 'density (g/cm^3)': rho, 'density +-': rho_error,
-               'potential per molecule (kJ/mol)': float(np.mean(energies)), 'potential per molecule +-': block_error(energies),
-               'D (1e-5 cm^2/s)': float(np.mean(d)), 'D +-': standard_error(d),
-               'NVE T (K)': float(np.mean([r['T'] for r in runs])), 'NVE T +-': standard_error([r['T'] for r in runs]),
-               'largest NVE drift (kJ/mol/ns per molecule)': max(abs(r['drift']) for r in runs),
-               'published density': published[0], 'published density +-': published[1],
-               'published D': published[2], 'published D +-': published[3],
-               'box edge at the mean density (nm)': edge, 'minutes': (time.perf_counter()-start)/60}
-        for key, value, error in (('density', rho, rho_error), ('D', row['D (1e-5 cm^2/s)'], row['D +-'])):
-            row[key+' minus published, in standard errors'] = (value-row['published '+key])/math.hypot(error, row['published '+key+' +-'])
-        rows.append(row)
-        print(row, flush=True)
-    with open(out/'properties.csv', 'w', newline='') as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-    lines = [f'{MOLECULES} molecules, {TEMPERATURE:g} K, 1 atm; {CUTOFF*10:g} A cutoff switched from {SWITCH*10:g} A. '
-             f'Density: {args.npt_ps:g} ps of LangevinMiddleIntegrator + MonteCarloBarostat (block standard errors). '
-             f'D: {args.nve_runs} NVE runs of {args.nve_ps:g} ps under RigidLangevinIntegrator at zero viscosity at the mean density, '
-             f'MSD slope over {args.msd_lags[0]:g}-{args.msd_lags[1]:g} ps (standard error over runs). '
-             'Published: Fennell & Gezelter, J. Chem. Phys. 120, 9175 (2004).', '',
-             '| model | density (g/cm³) | published | difference (SE) | D (1e-5 cm²/s) | published | difference (SE) | '
-             'potential per molecule (kJ/mol) | NVE T (K) | largest NVE drift (kJ/mol/ns per molecule) |',
-             '|---|---|---|---|---|---|---|---|---|---|']
-    for r in rows:
-        lines.append(f"| {r['model']} | {r['density (g/cm^3)']:.4f} ± {r['density +-']:.4f} | {r['published density']} ± {r['published density +-']} | "
-                     f"{r['density minus published, in standard errors']:+.1f} | {r['D (1e-5 cm^2/s)']:.2f} ± {r['D +-']:.2f} | "
-                     f"{r['published D']} ± {r['published D +-']} | {r['D minus published, in standard errors']:+.1f} | "
-                     f"{r['potential per molecule (kJ/mol)']:.2f} ± {r['potential per molecule +-']:.2f} | "
-                     f"{r['NVE T (K)']:.1f} ± {r['NVE T +-']:.1f} | {r['largest NVE drift (kJ/mol/ns per molecule)']:.2g} |")
-    (out/'table.md').write_text('\n'.join(lines)+'\n')
-    print('\n'.join(lines))
+    for n, (model, switch) in enumerate(cases):
+        rows.append(measure(model, switch, platform, args, seed=17+n))
+        print(rows[-1], flush=True)
+    write(out, rows, args)
     return 0
 
 
