@@ -556,8 +556,9 @@ def main(argv=None):
             records = earlier+records
             report.write_configurational(out, records, TEMPERATURE, peer=TCONF_RUNS[0])
 
-    if rows and (out/'results.csv').exists():
-        # A run of some parts keeps the other scenes' rows of an earlier run (S1 before S2).
+    if (rows or stability) and (out/'results.csv').exists():
+        # A run of some parts keeps the other scenes' rows of an earlier run (S1 before S2); a run
+        # of the stability part alone keeps them all.
         scenes = {r['scene'].split(' (')[0] for r in rows}
         kept = [r for r in report.read_csv(out/'results.csv') if r['scene'].split(' (')[0] not in scenes]
         rows = sorted(rows+kept, key=lambda r: r['scene'][:2])
