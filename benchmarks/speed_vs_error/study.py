@@ -392,8 +392,8 @@ def stability_task(task):
 # compared start by start; the exact value is T0 (the translational estimator <|F|^2>/<lap U> is
 # exact in the canonical ensemble). Measured (2026-11-25): ExactFlow's replicas spread by 3.8 %
 # (BAOAB's, whose too-fast dynamics visit more configurations, by 0.8 %), and pairing by start
-# removes little of it, so 32 replicas bound a bias by 1.5 % at two standard errors; about 60
-# would resolve 1 %.
+# removes little of it, so 32 replicas bound a bias by 1.5 % at two standard errors; 64 (a second
+# run of 32 with --tconf-append) bound it by 0.95 %.
 TCONF_VISCOSITY = 1.0
 TCONF_RUNS = [('ExactFlow', 1.0), ('ExactFlow', 4.0), ('BAOAB', 4.0)]
 TCONF_SPACING_PS = 10.0
