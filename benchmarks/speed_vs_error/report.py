@@ -3,7 +3,7 @@
 Errors come with a standard error ('error X +-': measurement and truth combined). A difference
 between two integrators counts only when it exceeds the 95% two-sided Student-t quantile times the
 standard error of the difference, with the degrees of freedom of the standard errors (replicas - 1
-in S2, where three replicas give 2 and the quantile is 4.3; groups of bodies or blocks - 1 = 9 in
+in S2, where three replicas, the default, give 2 and the quantile is 4.3; groups of bodies or blocks - 1 = 9 in
 S1): below that the study cannot tell them apart, and says so rather than ranking noise.
 """
 import csv
@@ -69,9 +69,11 @@ def cell(r, observable):
 
 def markdown(rows, stability):
     observables = [o for o in DYNAMICAL+CONFIGURATIONAL if any('error '+o in r for r in rows)]
+    replicas = min((int(r['replicas']) for r in rows if r['scene'].startswith('S2') and 'replicas' in r), default=3)
     lines = ['Errors against the truth (exact for S1, the 0.5 fs reference for S2), ± one standard error;',
              'VACF and O-O RDF: root-mean-square difference of the normalized function. Standard errors: over',
-             'three replicas in S2 (two degrees of freedom, so the verdicts below take differences beyond 4.3 of',
+             f'{replicas} replicas in S2 ({replicas-1} degrees of freedom, so the verdicts below take differences beyond '
+             f'{quantile({"replicas": replicas})} of',
              'them as real), over 10 groups of bodies (or blocks) in S1.', '',
              '| scene | viscosity (P) | integrator | step (fs) | ns/day | '+' | '.join('error '+o for o in observables)+' |',
              '|'+'---|'*(5+len(observables))]

@@ -59,7 +59,17 @@ WATER_SWITCH, WATER_CUTOFF = 0.8, 0.9
 
 
 # ---------------------------------------------------------------------------- scene S2: water
-def water_setup(waters_pdb, viscosity_poise, integrator_name, step_fs, seed, threads, start=None):
+def new_context(system, integrator, args, threads=None):
+    """A Context on args.platform: CPU with `threads` (default args.threads) threads, OpenCL or CUDA
+    in args.precision."""
+    if args.platform == 'CPU':
+        properties = {'Threads': str(threads or args.threads)}
+    else:
+        properties = {'Precision': args.precision}
+    return mm.Context(system, integrator, mm.Platform.getPlatformByName(args.platform), properties)
+
+
+def water_setup(waters_pdb, viscosity_poise, integrator_name, step_fs, seed, args, start=None, threads=None):
     """A Context of rigid TIP3P water under the named integrator, and the molecule layout; from the
     PDB's positions at T0, or from start = (positions, velocities) in nm and nm/ps."""
     pdb = app.PDBFile(str(waters_pdb))
@@ -84,8 +94,7 @@ def water_setup(waters_pdb, viscosity_poise, integrator_name, step_fs, seed, thr
         integrator.setScheme(SCHEMES[integrator_name])
         rl.addRigidBodies(integrator, pdb.topology, system)
     integrator.setRandomNumberSeed(seed)
-    platform = mm.Platform.getPlatformByName('CPU')
-    context = mm.Context(system, integrator, platform, {'Threads': str(threads)})
+    context = new_context(system, integrator, args, threads)
     if start is None:
         context.setPositions(pdb.positions)
         context.applyConstraints(1e-10)
@@ -127,7 +136,7 @@ def prepare_starts(args, count, seed=5, threads=None, spacing_ps=None):
     at 0.01 P, where rotation decorrelates in picoseconds, then one snapshot every spacing_ps
     (default start_spacing_ps), all at 1 fs. The S2 replicas' chain runs on one rank with every core."""
     context, integrator, _, _, _ = water_setup(ROOT/'examples'/'data'/'water256.pdb', 0.01, 'ExactFlow', 1.0, seed,
-                                               threads or os.cpu_count() or 1)
+                                               args, threads=threads or os.cpu_count() or 1)
     integrator.step(int(round(args.start_equilibration_ps/0.001)))
     starts = []
     for _ in range(count):
@@ -142,7 +151,7 @@ def run_water(task):
     tenth sample the forces and energy; returns observables and the cost of the steps alone."""
     viscosity, name, step_fs, seed, args = task['viscosity'], task['integrator'], task['step_fs'], task['seed'], task['args']
     context, integrator, molecules, (sigma, epsilon), box = water_setup(ROOT/'examples'/'data'/'water256.pdb', viscosity, name, step_fs, seed,
-                                                                        args.threads, args.starts[task['replica']])
+                                                                        args, args.starts[task['replica']])
     every = max(1, int(round(args.sample_fs/step_fs)))
     dt = every*step_fs*1e-3
     try:
@@ -287,7 +296,7 @@ def free_bodies(name, step_fs, seed, args, shape, masses, tensor, origin):
             positions.append(mm.Vec3(*(p+place)))
         integrator.addRigidBody(list(range(sites*b, sites*b+sites)))
         integrator.setBodyResistance(b, tensor, mm.Vec3(*(origin+place)), positions[-sites:])
-    context = mm.Context(system, integrator, mm.Platform.getPlatformByName('CPU'), {'Threads': str(args.threads)})
+    context = new_context(system, integrator, args)
     context.setPositions(positions)
     context.setVelocitiesToTemperature(TEMPERATURE, seed)
     return integrator, context, obs.Molecules([list(range(sites*b, sites*b+sites)) for b in range(n)], masses)
@@ -372,7 +381,7 @@ def stability_task(task):
     largest = 0.0
     for step_fs in task['candidates']:
         try:
-            context, integrator, molecules, lj, box = water_setup(ROOT/'examples'/'data'/'water64.pdb', viscosity, name, step_fs, 7, args.threads)
+            context, integrator, molecules, lj, box = water_setup(ROOT/'examples'/'data'/'water64.pdb', viscosity, name, step_fs, 7, args)
             integrator.step(args.stability_steps)
             state = context.getState(getPositions=True, getVelocities=True)
             x = state.getPositions(asNumpy=True)._value
@@ -476,6 +485,9 @@ def main(argv=None):
     parser.add_argument('--quick', action='store_true', help='a few ps per run: checks the machinery, not the numbers')
     parser.add_argument('--out', default='out/speed_vs_error')
     parser.add_argument('--threads', type=int, default=0, help='CPU threads per Context (default: cores / MPI ranks)')
+    parser.add_argument('--platform', default='CPU', choices=['CPU', 'OpenCL', 'CUDA'])
+    parser.add_argument('--precision', default='mixed', help='OpenCL and CUDA precision (default mixed)')
+    parser.add_argument('--replicas', type=int, default=0, help='replicas of each S2 run (default 3)')
     parser.add_argument('--parts', default='s1,s2,stability,tconf', help='which parts to run (default all)')
     parser.add_argument('--tconf-replicas', type=int, default=0, help='replicas of part tconf (default 32)')
     parser.add_argument('--tconf-append', action='store_true',
@@ -485,7 +497,7 @@ def main(argv=None):
     if args.threads == 0:
         args.threads = max(1, (os.cpu_count() or 1)//ranks)
     args.sample_fs = 10.0
-    args.replicas = 2 if args.quick else 3
+    args.replicas = args.replicas or (2 if args.quick else 3)
     args.start_equilibration_ps, args.start_spacing_ps = (0.5, 0.5) if args.quick else (40.0, 20.0)
     args.equilibration_ps, args.production_ps, args.reference_ps = (0.2, 1.5, 2.0) if args.quick else (1.0, 15.0, 25.0)
     args.free_bodies, args.free_body_time, args.helicoid_ps = (10, 4, 5.0) if args.quick else (200, 100, 200.0)
