@@ -63,9 +63,14 @@ MSD_LAGS_PS = (2.0, 10.0)
 SAMPLE_PS = 0.1  # between samples of centres
 
 
-def density(system, box_volume_nm3):
-    mass = sum(system.getParticleMass(i).value_in_unit(unit.dalton) for i in range(system.getNumParticles()))
-    return mass/AVOGADRO/(box_volume_nm3*1e-21)
+def grams(system):
+    """The System's mass in g."""
+    return sum(system.getParticleMass(i).value_in_unit(unit.dalton) for i in range(system.getNumParticles()))/AVOGADRO
+
+
+def density(mass_g, box_volume_nm3):
+    """g/cm^3 (1 nm^3 = 1e-21 cm^3)."""
+    return mass_g/(box_volume_nm3*1e-21)
 
 
 def box_volume(state):
@@ -124,12 +129,12 @@ def npt(system, positions, platform, args, seed):
     context = mm.Context(barostatted, integrator, platform)
     context.setState(melted)
     integrator.step(int(round(args.npt_equilibrate_ps/STEP)))
-    densities, energies = [], []
+    mass, densities, energies = grams(system), [], []
     every = int(round(args.npt_sample_ps/STEP))
     for _ in range(int(round(args.npt_ps/args.npt_sample_ps))):
         integrator.step(every)
         state = context.getState(getEnergy=True)
-        densities.append(density(system, box_volume(state)))
+        densities.append(density(mass, box_volume(state)))
         energies.append(state.getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole)/MOLECULES)
     return np.array(densities), np.array(energies), context.getState(getPositions=True)
 
@@ -139,7 +144,7 @@ def at_density(topology, system, state, target):
     rigidly with its centre (the site M, at the centre of mass)."""
     positions = state.getPositions(asNumpy=True).value_in_unit(unit.nanometer)
     volume = box_volume(state)
-    scale = (density(system, volume)/target)**(1/3)
+    scale = (density(grams(system), volume)/target)**(1/3)
     scaled = positions.copy()
     for residue in topology.residues():
         atoms = [a.index for a in residue.atoms()]

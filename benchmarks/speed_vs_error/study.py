@@ -563,7 +563,7 @@ def main(argv=None):
     out = pathlib.Path(args.out)
     if 'tconf' in parts:
         earlier = report.read_csv(out/'configurational.csv') if args.tconf_append else []
-        records = configurational_temperature(args, ranks, first_replica=1+max((int(r['replica']) for r in earlier), default=-1))
+        records = configurational_temperature(args, ranks, first_replica=1+max((r['replica'] for r in earlier), default=-1))
         if records is not None:
             records = earlier+records
             report.write_configurational(out, records, TEMPERATURE, peer=TCONF_RUNS[0])
