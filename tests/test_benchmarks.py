@@ -105,6 +105,46 @@ def test_configurational_temperature_verdict_pairs_runs_by_start(tmp_path):
     assert (first/'configurational.md').read_text() == table
 
 
+def test_speed_vs_error_s2_replicas_append(tmp_path):
+    """S2 replicas written by one run and read back by the next (study.py --s2-append) give the
+    rows of one run of all of them: the same means, and standard errors over every replica (a
+    second file that started over would halve the replicas and fail); a file that is not a record
+    list is refused."""
+    sys.path.insert(0, str(ROOT/'benchmarks'/'speed_vs_error'))
+    import study
+    rng = np.random.default_rng(3)
+    viscosities, steps = [0.1], [2.0]
+
+    def record(integrator, step, replica, reference=False):
+        d = 1.0+0.1*rng.standard_normal()+(0.05 if integrator == 'BAOAB' else 0.0)
+        result = {'status': 'ok', 'D translational (nm^2/ps)': d, 'T translational (K)': 300+rng.standard_normal(),
+                  'potential per molecule (kJ/mol)': -41+0.1*rng.standard_normal(), 'VACF': rng.standard_normal(4),
+                  'O-O RDF': rng.standard_normal(95), 'ns/day': 10.0}
+        return {'reference': reference, 'viscosity': 0.1, 'integrator': integrator, 'step (fs)': step, 'replica': replica,
+                'result': result}
+    records = [record('ExactFlow', 0.5, r, reference=True) for r in range(8)]
+    records += [record(name, 2.0, r) for name in study.INTEGRATORS for r in range(8)]
+    whole = study.s2_rows(records, viscosities, steps)
+    study.write_replicas(tmp_path/study.S2_REPLICAS, [r for r in records if r['replica'] < 5])
+    earlier = study.read_replicas(tmp_path/study.S2_REPLICAS)
+    appended = study.s2_rows(earlier+[r for r in records if r['replica'] >= 5], viscosities, steps)
+    assert len(whole) == len(appended) == 1+len(study.INTEGRATORS)
+    for a, b in zip(whole, appended):
+        assert a.keys() == b.keys() and a['replicas'] == 8
+        for key, value in a.items():
+            assert value == b[key] if isinstance(value, str) else np.isclose(value, b[key], rtol=1e-6), key
+    exact = [r for r in whole if r['integrator'] == 'ExactFlow' and r['step (fs)'] == 2.0][0]
+    d = [r['result']['D translational (nm^2/ps)'] for r in records if not r['reference'] and r['integrator'] == 'ExactFlow']
+    assert np.isclose(exact['D translational (nm^2/ps) +-'], np.std(d, ddof=1)/np.sqrt(8))
+    (tmp_path/'bad.json').write_text('[{"replica": 0}]')
+    try:
+        study.read_replicas(tmp_path/'bad.json')
+    except SystemExit as e:
+        assert 'record 0' in str(e)
+    else:
+        raise AssertionError('a malformed replica file was read')
+
+
 def test_traffic_model_bounds_and_matches_the_h100_profiles():
     """benchmarks/platforms/traffic.py: every kernel moves at least the minimum, and the model agrees
     with the H100's measured DRAM bytes kernel by kernel: within 15 % the placement kernel and the

@@ -24,13 +24,15 @@ against its exact value and against 1 fs runs from the same starts.
     python benchmarks/speed_vs_error/study.py                    # everything, on one rank
     mpirun -np 2 python benchmarks/speed_vs_error/study.py       # the same over 2 ranks (about 2 hours on 2 cores)
     ... study.py --parts s2                                      # one part; the other parts' rows are kept
+    ... study.py --parts s2 --replicas 4 --s2-append             # 4 more S2 replicas, new starts (about 40 min on 2 cores)
     python benchmarks/speed_vs_error/study.py --quick            # a few ps per run, to check it works (5 min)
 
-Writes results to --out (default out/speed_vs_error): results.csv, stability.csv, table.md and
-error_vs_speed_*.png.
+Writes results to --out (default out/speed_vs_error): results.csv, stability.csv, table.md,
+error_vs_speed_*.png, and s2_replicas.json (every S2 run's observables, which --s2-append adds to).
 """
 import argparse
 import csv
+import json
 import math
 import os
 import pathlib
@@ -56,6 +58,7 @@ SCHEMES = {'ExactFlow': rl.RigidLangevinIntegrator.ExactFlow, 'BAOAB': rl.RigidL
            'Original': rl.RigidLangevinIntegrator.Original}
 INTEGRATORS = ['ExactFlow', 'BAOAB', 'Original', 'LangevinMiddle+SETTLE']
 WATER_SWITCH, WATER_CUTOFF = 0.8, 0.9
+S2_REPLICAS = 's2_replicas.json'  # every S2 run's observables, for --s2-append
 
 
 # ---------------------------------------------------------------------------- scene S2: water
@@ -492,6 +495,8 @@ def main(argv=None):
     parser.add_argument('--tconf-replicas', type=int, default=0, help='replicas of part tconf (default 32)')
     parser.add_argument('--tconf-append', action='store_true',
                         help="add part tconf's replicas to those in --out's configurational.csv (new starts and seeds)")
+    parser.add_argument('--s2-append', action='store_true',
+                        help=f"add part s2's replicas to those in --out's {S2_REPLICAS} (new starts and seeds)")
     args = parser.parse_args(argv)
     ranks = int(os.environ.get('OMPI_COMM_WORLD_SIZE', os.environ.get('PMI_SIZE', '1')))
     if args.threads == 0:
@@ -520,33 +525,33 @@ def main(argv=None):
             for task, result in zip(tasks, results):
                 rows.append(row('S1 free coupled bodies', S1_VISCOSITY, task, result, errors(result, truth)))
 
+    out = pathlib.Path(args.out)
     if 's2' in parts:
-        starts = distribute(lambda task: prepare_starts(args, args.replicas), [None], 'S2 starting configurations (0.01 P)')
-        args.starts = broadcast(starts[0] if starts is not None else None)
-        reference_tasks = [{'viscosity': eta, 'integrator': 'ExactFlow', 'step_fs': 0.5, 'seed': 101+r, 'replica': r, 'args': args}
-                           for eta in viscosities for r in range(args.replicas)]
+        earlier = read_replicas(out/S2_REPLICAS) if args.s2_append else []
+        first = 1+max((r['replica'] for r in earlier), default=-1)
+        n = args.replicas
+        # One chain of starts per rank, seeded by the first replica: appended replicas start from
+        # configurations of their own.
+        chains = [{'count': -(-n//ranks), 'seed': 5+first+k} for k in range(ranks)]
+        starts = distribute(lambda task: prepare_starts(args, task['count'], task['seed'], args.threads), chains,
+                            'S2 starting configurations (0.01 P)')
+        args.starts = broadcast([s for chain in starts for s in chain][:n] if starts is not None else None)
+        reference_tasks = [{'viscosity': eta, 'integrator': 'ExactFlow', 'step_fs': 0.5, 'seed': 101+first+r, 'replica': r, 'args': args}
+                           for eta in viscosities for r in range(n)]
         saved = args.production_ps
         args.production_ps = args.reference_ps
         references = distribute(run_water, reference_tasks, 'S2 reference runs (0.5 fs)')
         args.production_ps = saved
-        tasks = [{'viscosity': eta, 'integrator': name, 'step_fs': h, 'seed': 7+r, 'replica': r, 'args': args}
-                 for eta in viscosities for name in INTEGRATORS for h in water_steps for r in range(args.replicas)]
+        tasks = [{'viscosity': eta, 'integrator': name, 'step_fs': h, 'seed': 7+first+r, 'replica': r, 'args': args}
+                 for eta in viscosities for name in INTEGRATORS for h in water_steps for r in range(n)]
         results = distribute(run_water, tasks, 'S2 rigid water')
         if results is not None:
-            # Configurational observables do not depend on the viscosity: their truth pools every reference.
-            pooled = combine(references)
-            for eta in viscosities:
-                reference = combine([ref for task, ref in zip(reference_tasks, references) if task['viscosity'] == eta])
-                rows.append(row('S2 water (reference)', eta, {'integrator': 'ExactFlow', 'step_fs': 0.5}, reference, {}))
-                exact = {'T translational (K)': TEMPERATURE, 'T rotational (K)': TEMPERATURE}  # for every integrator
-                truth = {k: v for k, v in reference.items() if k.split(' +-')[0] in report.DYNAMICAL}
-                truth.update({k: v for k, v in pooled.items() if k.split(' +-')[0] in report.CONFIGURATIONAL and k.split(' +-')[0] not in exact})
-                truth.update(exact)
-                for name in INTEGRATORS:
-                    for h in water_steps:
-                        measured = combine([result for task, result in zip(tasks, results)
-                                            if (task['viscosity'], task['integrator'], task['step_fs']) == (eta, name, h)])
-                        rows.append(row('S2 water', eta, {'integrator': name, 'step_fs': h}, measured, errors(measured, truth)))
+            records = earlier+[{'reference': reference, 'viscosity': t['viscosity'], 'integrator': t['integrator'],
+                                'step (fs)': t['step_fs'], 'replica': first+t['replica'], 'result': r}
+                               for reference, pairs in ((True, zip(reference_tasks, references)), (False, zip(tasks, results)))
+                               for t, r in pairs]
+            write_replicas(out/S2_REPLICAS, records)
+            rows += s2_rows(records, viscosities, water_steps)
 
     if 'stability' in parts:
         candidates = [0.1, 0.2, 0.5, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 10.0]
@@ -560,7 +565,6 @@ def main(argv=None):
                 stability.append({'viscosity (P)': task['viscosity'], 'integrator': task['integrator'],
                                   'largest stable step (fs)': result['largest stable step (fs)']})
 
-    out = pathlib.Path(args.out)
     if 'tconf' in parts:
         earlier = report.read_csv(out/'configurational.csv') if args.tconf_append else []
         records = configurational_temperature(args, ranks, first_replica=1+max((r['replica'] for r in earlier), default=-1))
@@ -581,6 +585,57 @@ def main(argv=None):
     if rows or stability:
         report.write(out, rows, stability)
     return 0
+
+
+def s2_rows(records, viscosities, water_steps):
+    """The S2 table's rows from every replica's record: the references' mean is the truth of the
+    dynamical observables at their viscosity; the configurational truth pools every reference."""
+    def results(viscosity, integrator, step_fs, reference=False):
+        return [r['result'] for r in records if r['reference'] == reference and
+                (r['viscosity'], r['integrator'], r['step (fs)']) == (viscosity, integrator, step_fs)]
+    references = {eta: results(eta, 'ExactFlow', 0.5, reference=True) for eta in viscosities}
+    # Configurational observables do not depend on the viscosity: their truth pools every reference.
+    pooled = combine([r for eta in viscosities for r in references[eta]])
+    rows = []
+    for eta in viscosities:
+        reference = combine(references[eta])
+        rows.append(row('S2 water (reference)', eta, {'integrator': 'ExactFlow', 'step_fs': 0.5}, reference, {}))
+        exact = {'T translational (K)': TEMPERATURE, 'T rotational (K)': TEMPERATURE}  # for every integrator
+        truth = {k: v for k, v in reference.items() if k.split(' +-')[0] in report.DYNAMICAL}
+        truth.update({k: v for k, v in pooled.items() if k.split(' +-')[0] in report.CONFIGURATIONAL and k.split(' +-')[0] not in exact})
+        truth.update(exact)
+        for name in INTEGRATORS:
+            for h in water_steps:
+                measured = combine(results(eta, name, h))
+                rows.append(row('S2 water', eta, {'integrator': name, 'step_fs': h}, measured, errors(measured, truth)))
+    return rows
+
+
+def write_replicas(path, records):
+    """Every S2 run's own observables (JSON, arrays as lists), so that later runs can add replicas."""
+    def plain(value):
+        if isinstance(value, dict):
+            return {k: plain(v) for k, v in value.items()}
+        if isinstance(value, (np.ndarray, list, tuple)):
+            return [plain(v) for v in value]
+        if isinstance(value, (float, np.floating)):
+            return float(f'{float(value):.10g}')
+        return value.item() if isinstance(value, np.generic) else value
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps([plain(r) for r in records], separators=(',', ':')))
+
+
+def read_replicas(path):
+    """Records written by write_replicas, checked: an append must not silently start over."""
+    if not path.exists():
+        raise SystemExit(f'--s2-append: {path} does not exist; run --parts s2 without --s2-append first')
+    records = json.loads(path.read_text())
+    needed = {'reference', 'viscosity', 'integrator', 'step (fs)', 'replica', 'result'}
+    for i, r in enumerate(records):
+        if not isinstance(r, dict) or not needed <= set(r) or not isinstance(r['result'], dict):
+            raise SystemExit(f'{path}: record {i} is not an S2 run record (needs {sorted(needed)})')
+        r['result'] = {k: np.array(v) if isinstance(v, list) else v for k, v in r['result'].items()}
+    return records
 
 
 def row(scene, viscosity, task, result, error):
