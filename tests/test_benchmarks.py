@@ -171,5 +171,5 @@ def test_traffic_model_bounds_and_matches_the_h100_profiles():
     # model that forgot the cell offsets or the posqCorrection write (48 bytes) fails here: the mixed
     # profile would read 9.9 % above it.
     assert abs(registers['stepCoupledBodies3']/model['step']-1) < 0.08
-    assert abs(fused['stepCoupledBodies3']/traffic.common_current(3, 'mixed')['step']-1) < 0.08
-    assert abs(fused_single['stepCoupledBodies3']/traffic.common_current(3, 'single')['step']-1) < 0.08
+    assert abs(fused['stepCoupledBodies3']/traffic.common_fused(3, 'mixed')['step']-1) < 0.08
+    assert abs(fused_single['stepCoupledBodies3']/traffic.common_fused(3, 'single')['step']-1) < 0.08

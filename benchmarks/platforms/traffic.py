@@ -61,17 +61,27 @@ def _body_state(n, precision):
     return 2*3*4*m+(2*12*m if rotations(n) > 0 else 0)
 
 
-def common_current(n, precision):
+def common_current(n, precision, periodic=False):
     """Bytes per body-step of each common kernel as written (ExactFlow): one pass per body that steps it
-    and places its particles, and OpenMM's random-number kernel."""
+    and places its particles, and OpenMM's random-number kernel. Body-frame coordinates are read per
+    type (from cache); the body's periodic image only in a periodic box (integrator_cost.py's bodies
+    are not in one)."""
     m, r = PRECISIONS[precision]
     random = 16*random_float4(n)
-    step = (INT+INT+INT4                              # bodyType, bodyAtomStart, bodyImage
+    step = (INT+INT+(INT4 if periodic else 0)         # bodyType, bodyAtomStart, bodyImage
             + _body_state(n, precision)
-            + n*(INT+4*m+FORCE)                       # atomSlot, atomCoords, force
+            + n*(INT+FORCE)                           # atomSlot, force
             + _particle_placement(n, precision)
             + random)                                 # the random numbers generateRandomNumbers wrote
     return {'generateRandomNumbers': random, 'step': step}
+
+
+def common_fused(n, precision):
+    """The same as profiled on the H100 after the step and the placement were fused (commit 3ed7dd0):
+    body-frame coordinates read per particle, the image read in any box."""
+    m, r = PRECISIONS[precision]
+    current = common_current(n, precision, periodic=True)
+    return {**current, 'step': current['step']+n*4*m}
 
 
 def common_before(n, precision):
@@ -183,7 +193,8 @@ def main():
              '"minimum": body state in and out, forces, slots and positions of the particles; "particle velocities": '
              'what writing them every step adds; "before": the kernels of commit 61978fa (a step kernel, then a particle '
              'placement kernel); the kernels\' columns are what each moves as written now (the step kernel places its '
-             'bodies\' particles).', '',
+             'bodies\' particles; body-frame coordinates per type; no periodic box, as in integrator_cost.py: a periodic '
+             'box adds 16 bytes, the body\'s image).', '',
              '| platform | precision | particles | minimum | + particle velocities | before | random numbers | step | today | today / minimum | today / (minimum + velocities) |',
              '|---|---|---|---|---|---|---|---|---|---|---|']
     for r in rows:
@@ -198,7 +209,7 @@ def main():
         lines += ['', '## Measured on an H100 (CUDA, 1e6 three-particle bodies, Nsight Compute DRAM bytes per body-step)', '',
                   '| kernels | kernel | model | measured | measured / model | DRAM % of peak | us per step |', '|---|---|---|---|---|---|---|']
         for label, profile, precision in measured:
-            model = (common_before if label.startswith('before') or label.startswith('registers') else common_current)(3, precision)
+            model = (common_before if label.startswith('before') or label.startswith('registers') else common_fused)(3, precision)
             for kernel, row in profile.items():
                 key = 'step' if kernel.startswith('step') else kernel
                 bytes_ = float(row['bytes_per_body_step'])
@@ -213,14 +224,15 @@ def main():
                          f'({minimum}), {whole/(minimum+velocities):.2f} times with particle velocities ({minimum+velocities}); '
                          f'{wall["us_per_step"]} us per step, {wall["dram_pct_of_peak"]}% of peak DRAM bandwidth.')
     peak = host_bandwidth()
-    lines += ['', '## Achieved bandwidth (model bytes / measured time per body-step, 1e6 bodies, integrator_cost.py)', '',
+    lines += ['', '## Achieved bandwidth (model bytes / measured time per body-step, 1e6 bodies, integrator_cost.py, kernels of 3ed7dd0)', '',
               f'This machine copies memory at {peak:.1f} GB/s (one thread, read and write counted): the CPU and PoCL rows '
               'are far below it, so there the step is bound by arithmetic, not by memory.', '',
               '| platform | precision | us per body-step | model bytes | GB/s |', '|---|---|---|---|---|']
-    for platform, precision, model in [('CPU', 'double', cpu_current(3)), ('OpenCL', 'single', sum(common_current(3, 'single').values())),
-                                       ('OpenCL', 'double', sum(common_current(3, 'double').values())),
-                                       ('CUDA', 'single', sum(common_current(3, 'single').values())),
-                                       ('CUDA', 'mixed', sum(common_current(3, 'mixed').values()))]:
+    # The times were measured with the fused kernels of commit 3ed7dd0: their bytes.
+    for platform, precision, model in [('CPU', 'double', cpu_current(3)), ('OpenCL', 'single', sum(common_fused(3, 'single').values())),
+                                       ('OpenCL', 'double', sum(common_fused(3, 'double').values())),
+                                       ('CUDA', 'single', sum(common_fused(3, 'single').values())),
+                                       ('CUDA', 'mixed', sum(common_fused(3, 'mixed').values()))]:
         t = measured_time(platform, precision)
         if t is not None:
             lines.append(f'| {platform} | {precision} | {t:.4g} | {model} | {model/t*1e-3:.3g} |')

@@ -123,28 +123,33 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
     // Body particles, contiguous per body in kernel order.
     vector<int> types(numBodies), atomStart(numBodies+1);
     entryParticle.clear();
-    vector<mm_double4> coords;
     for (int k = 0; k < numBodies; k++) {
         int body = bodyOrder[k];
         types[k] = model.getBodyType(body);
         atomStart[k] = entryParticle.size();
-        const vector<int>& particles = model.getBodyParticles(body);
-        const BodyType& type = model.getType(types[k]);
-        for (int i = 0; i < (int) particles.size(); i++) {
-            entryParticle.push_back(particles[i]);
-            // w: the weight of the particle's force entry in the body's force and torque. OpenMM has
-            // already handed a virtual site's force to its parents.
-            coords.push_back(mm_double4(type.coords[i][0], type.coords[i][1], type.coords[i][2], type.isVirtualSite[i] ? 0 : 1));
-        }
+        for (int particle : model.getBodyParticles(body))
+            entryParticle.push_back(particle);
     }
     numEntries = entryParticle.size();
+
+    // Body-frame coordinates once per type (a type's bodies share them), the type's first at
+    // typeInfo[type].x; w: the weight of the particle's force in the body's force and torque (OpenMM
+    // has already handed a virtual site's force to its parents).
+    vector<mm_double4> coords;
+    vector<int> coordStart(model.getNumTypes());
+    for (int t = 0; t < model.getNumTypes(); t++) {
+        const BodyType& type = model.getType(t);
+        coordStart[t] = coords.size();
+        for (int i = 0; i < (int) type.coords.size(); i++)
+            coords.push_back(mm_double4(type.coords[i][0], type.coords[i][1], type.coords[i][2], type.isVirtualSite[i] ? 0 : 1));
+    }
     atomStart[numBodies] = numEntries;
     numReductionGroups = std::max(1, std::min(cc.getNumThreadBlocks(), (numBodies+ReductionGroupSize-1)/ReductionGroupSize));
 
     if (mixedIsDouble)
-        initializeMixedArrays<double, mm_double4>(model.getNumTypes());
+        initializeMixedArrays<double, mm_double4>(model.getNumTypes(), coords.size());
     else
-        initializeMixedArrays<float, mm_float4>(model.getNumTypes());
+        initializeMixedArrays<float, mm_float4>(model.getNumTypes(), coords.size());
     initializeArray<int>(bodyType, cc, numBodies, "rigidBodyType");
     initializeArray<int>(bodyAtomStart, cc, numBodies+1, "rigidBodyAtomStart");
     initializeArray<int>(atomSlot, cc, numEntries, "rigidBodyAtomSlot");
@@ -155,9 +160,8 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
         bodyType.upload(types);
         bodyAtomStart.upload(atomStart);
     }
-    if (numEntries > 0) {
-        atomCoords.upload(coords, true);
-    }
+    if (!coords.empty())
+        typeCoords.upload(coords, true);
 
     // Mass properties now (placing particles and kinetic energies need them); step coefficients
     // arrive with uploadCoefficients().
@@ -169,7 +173,7 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
         p[MassAndInertia] = type.mass;
         for (int k = 0; k < 3; k++)
             p[MassAndInertia+1+k] = type.inertia[k];
-        hostTypeInfo[t] = mm_int4(type.getNumDegreesOfFreedom(), type.numRotations, 0, (int) type.frictionClass);
+        hostTypeInfo[t] = mm_int4(coordStart[t], type.numRotations, 0, (int) type.frictionClass);
     }
     uploadTypeParameters();
     updateAtomSlots();
@@ -217,7 +221,7 @@ void CommonIntegrateRigidLangevinStepKernel::setKernelArguments() {
     placeKernel->addArg(bodyImage);
     placeKernel->addArg(bodyAtomStart);
     placeKernel->addArg(atomSlot);
-    placeKernel->addArg(atomCoords);
+    placeKernel->addArg(typeCoords);
     placeKernel->addArg(atomCellOffset);
     placeKernel->addArg(cc.getPosq());
     // Written only in mixed precision; posq stands in for it otherwise.
@@ -239,7 +243,7 @@ void CommonIntegrateRigidLangevinStepKernel::setKernelArguments() {
     kineticEnergyKernel->addArg(bodyType);
     kineticEnergyKernel->addArg(bodyAtomStart);
     kineticEnergyKernel->addArg(atomSlot);
-    kineticEnergyKernel->addArg(atomCoords);
+    kineticEnergyKernel->addArg(typeCoords);
     kineticEnergyKernel->addArg(cc.getLongForceBuffer());
     kineticEnergyKernel->addArg(typeParams);
     kineticEnergyKernel->addArg(typeInfo);
@@ -257,7 +261,7 @@ void CommonIntegrateRigidLangevinStepKernel::setStepArguments(vector<ComputeKern
         kernel->addArg(bodyType);
         kernel->addArg(bodyAtomStart);
         kernel->addArg(atomSlot);
-        kernel->addArg(atomCoords);
+        kernel->addArg(typeCoords);
         kernel->addArg(atomCellOffset);
         kernel->addArg(cc.getLongForceBuffer());
         kernel->addArg(typeParams);
@@ -309,12 +313,12 @@ void CommonIntegrateRigidLangevinStepKernel::placeAtoms() {
 }
 
 template <class Mixed, class Mixed4>
-void CommonIntegrateRigidLangevinStepKernel::initializeMixedArrays(int numTypes) {
+void CommonIntegrateRigidLangevinStepKernel::initializeMixedArrays(int numTypes, int numTypeCoords) {
     initializeArray<Mixed4>(bodyPosition, cc, numBodies, "rigidBodyPosition");
     initializeArray<Mixed4>(bodyVelocity, cc, numBodies, "rigidBodyVelocity");
     initializeArray<Mixed4>(bodyAngularMomentum, cc, numBodies, "rigidBodyAngularMomentum");
     initializeArray<Mixed4>(bodyRotation, cc, 3*numBodies, "rigidBodyRotation");
-    initializeArray<Mixed4>(atomCoords, cc, numEntries, "rigidBodyAtomCoords");
+    initializeArray<Mixed4>(typeCoords, cc, numTypeCoords, "rigidBodyTypeCoords");
     initializeArray<Mixed>(typeParams, cc, TypeStride*std::max(1, numTypes), "rigidBodyTypeParams");
     initializeArray<Mixed4>(centerOfMassVelocity, cc, 1, "rigidBodyCenterOfMassVelocity");
     initializeArray<Mixed4>(kineticEnergies, cc, 2*numReductionGroups, "rigidBodyKineticEnergies");
@@ -431,7 +435,11 @@ int CommonIntegrateRigidLangevinStepKernel::randomFloat4PerBody(int group, Rigid
         numbers = (rotations == 0 ? 2 : 4)*(3+rotations);  // two per coordinate, for each half of the flow of rotating bodies
     else
         numbers = 3+rotations;                            // one per coordinate
-    return (numbers+3)/4;
+    int float4s = (numbers+3)/4;
+    if (float4s > MaxRandomFloat4PerBody)
+        throw OpenMMException("RigidLangevinIntegrator: internal error: a step kernel loads at most "+std::to_string(MaxRandomFloat4PerBody)+
+                              " float4s of random numbers per body, fewer than a body needs");
+    return float4s;
 }
 
 void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, const RigidLangevinIntegrator& integrator, bool removeMotion) {

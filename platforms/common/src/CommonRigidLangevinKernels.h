@@ -53,7 +53,7 @@ private:
     void uploadTypeParameters();
     /** (Re)size the arrays stored in the platform's mixed precision. */
     template <class Mixed, class Mixed4>
-    void initializeMixedArrays(int numTypes);
+    void initializeMixedArrays(int numTypes, int numTypeCoords);
     template <class Mixed, class Mixed4>
     void uploadStates(const std::vector<BodyState>& states);
     template <class Mixed, class Mixed4>
@@ -69,9 +69,9 @@ private:
     std::vector<int> bodyOrder;          // kernel body index -> model body index
     std::vector<int> entryParticle;      // body particle entry -> System particle index
     std::vector<double> hostTypeParams;  // TypeStride values per type, in double precision
-    std::vector<OpenMM::mm_int4> hostTypeInfo;  // per type: dof, numRotations, halfSteps, friction class
+    std::vector<OpenMM::mm_int4> hostTypeInfo;  // per type: first index in typeCoords, numRotations, halfSteps, friction class
     OpenMM::ComputeArray bodyPosition, bodyVelocity, bodyAngularMomentum, bodyRotation, bodyType, bodyAtomStart;
-    OpenMM::ComputeArray atomSlot, atomCoords, atomCellOffset;
+    OpenMM::ComputeArray atomSlot, atomCellOffset, typeCoords;
     OpenMM::ComputeArray bodyImage;      // int4 per body: the periodic boxes its stored centre is short of the true one
     OpenMM::ComputeArray typeParams, typeInfo, centerOfMassVelocity, kineticEnergies;
     std::map<int, std::vector<OpenMM::ComputeKernel> > stepKernels;  // per scheme: one per step group

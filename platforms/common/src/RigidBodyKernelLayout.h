@@ -30,6 +30,13 @@ enum TypeParameter {
     TypeStride = 190
 };
 
+/**
+ * The most float4s of normal random numbers a body takes in one step (ExactFlow's two halves for six
+ * coordinates: 24 numbers): the step kernels load this many with a constant loop bound, so that
+ * the numbers stay in registers.
+ */
+const int MaxRandomFloat4PerBody = 6;
+
 /** Work items per group of the reduction kernels. */
 const int ReductionGroupSize = 128;
 
@@ -89,6 +96,7 @@ inline std::map<std::string, std::string> defines(int paddedNumAtoms, bool mixed
     d["TP_RANDOM_FORCE"] = std::to_string((int) RandomForce);
     d["TP_INVERSE_MASS"] = std::to_string((int) InverseMass);
     d["REDUCTION_GROUP_SIZE"] = std::to_string(ReductionGroupSize);
+    d["MAX_RANDOM_FLOAT4_PER_BODY"] = std::to_string(MaxRandomFloat4PerBody);
     d["ORIGINAL_MAX_ITERATIONS"] = std::to_string(BodyDynamics::OriginalSchemeMaxIterations);
     std::ostringstream tolerance;
     tolerance.precision(17);

@@ -1,8 +1,10 @@
 /**
  * Between bodies and atoms. Each body owns a contiguous range of entries (bodyAtomStart[k] to
- * bodyAtomStart[k+1]): its particles in the body's order, each with its body-frame coordinates and
- * its current index in OpenMM's atom arrays (atomSlot, which the host updates whenever OpenMM
- * reorders atoms, together with the atom's periodic cell offset).
+ * bodyAtomStart[k+1]): its particles in the body's order, each with its current index in OpenMM's
+ * atom arrays (atomSlot, which the host updates whenever OpenMM reorders atoms, together with the
+ * atom's periodic cell offset). Body-frame coordinates belong to the body's type, shared by all its
+ * bodies: typeCoords from typeInfo[type].x, in the same order, so that a step reads them from cache
+ * instead of once per particle from memory.
  *
  * Body states: position, velocity and body-frame angular momentum are mixed4 (w unused), the
  * rotation Q three mixed4 per body (its rows). Per-type parameters come from the host with the
@@ -37,19 +39,19 @@ DEVICE void storeVector(GLOBAL mixed4* RESTRICT array, int index, const mixed* v
 /**
  * The total force on body k (lab frame) and the torque about its centre of mass (body frame),
  * from OpenMM's fixed-point force buffer, summed over the body's particles in their order, each
- * weighted by atomCoords.w: 0 for a virtual site, whose force OpenMM has already handed to its
- * parents, 1 otherwise.
+ * weighted by coords[i].w (the body's type's coordinates): 0 for a virtual site, whose force OpenMM
+ * has already handed to its parents, 1 otherwise.
  */
 DEVICE void loadBodyForce(int body, int numRotations, const mixed* q, GLOBAL const int* RESTRICT bodyAtomStart,
-        GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT atomCoords, GLOBAL const mm_long* RESTRICT force,
+        GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT bodyCoords, GLOBAL const mm_long* RESTRICT force,
         mixed* totalForce, mixed* torque) {
     const mixed scale = 1/(mixed) 0x100000000;
     for (int i = 0; i < 3; i++)
         totalForce[i] = torque[i] = 0;
-    int end = bodyAtomStart[body+1];
-    for (int entry = bodyAtomStart[body]; entry < end; entry++) {
+    int start = bodyAtomStart[body], end = bodyAtomStart[body+1];
+    for (int entry = start; entry < end; entry++) {
         int slot = atomSlot[entry];
-        mixed4 coords = atomCoords[entry];
+        mixed4 coords = bodyCoords[entry-start];
         mixed weight = scale*coords.w;
         mixed f[3] = {weight*force[slot], weight*force[slot+PADDED_NUM_ATOMS], weight*force[slot+2*PADDED_NUM_ATOMS]};
         for (int i = 0; i < 3; i++)
@@ -93,17 +95,17 @@ DEVICE bool keepInBox(mixed* r, int4* image, mixed4 boxVecX, mixed4 boxVecY, mix
  * body has left (image): both are whole boxes, added before they meet the coordinates. Charges
  * (posq.w) and inverse masses (velm.w) are left alone. q holds the rotation if haveRotation; a
  * body that does not rotate may skip loading it, and it is read here only for a particle off the
- * centre (a massless site of a point body).
+ * centre (a massless site of a point body). bodyCoords: the body's type's coordinates.
  */
 DEVICE void placeBodyParticles(int body, int numRotations, int haveRotation, const mixed* q, const mixed* position,
         const mixed* velocity, const mixed* omega, int4 image, GLOBAL const mixed4* RESTRICT bodyRotation,
-        GLOBAL const int* RESTRICT bodyAtomStart, GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT atomCoords,
+        GLOBAL const int* RESTRICT bodyAtomStart, GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT bodyCoords,
         GLOBAL const int4* RESTRICT atomCellOffset, GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection,
         GLOBAL mixed4* RESTRICT velm, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ) {
-    int end = bodyAtomStart[body+1];
-    for (int entry = bodyAtomStart[body]; entry < end; entry++) {
+    int start = bodyAtomStart[body], end = bodyAtomStart[body+1];
+    for (int entry = start; entry < end; entry++) {
         mixed c[3], offset[3] = {0, 0, 0};
-        loadVector(atomCoords, entry, c);
+        loadVector(bodyCoords, entry-start, c);
         if (haveRotation)
             vectorToLabFrame(q, c, offset);
         else if (c[0] != 0 || c[1] != 0 || c[2] != 0) {
@@ -156,12 +158,13 @@ KERNEL void placeBodyAtoms(int numBodies, GLOBAL const mixed4* RESTRICT bodyPosi
         GLOBAL const mixed4* RESTRICT bodyAngularMomentum, GLOBAL const mixed4* RESTRICT bodyRotation,
         GLOBAL const int* RESTRICT bodyType, GLOBAL const mixed* RESTRICT typeParams, GLOBAL const int4* RESTRICT typeInfo,
         GLOBAL const int4* RESTRICT bodyImage, GLOBAL const int* RESTRICT bodyAtomStart, GLOBAL const int* RESTRICT atomSlot,
-        GLOBAL const mixed4* RESTRICT atomCoords, GLOBAL const int4* RESTRICT atomCellOffset,
+        GLOBAL const mixed4* RESTRICT typeCoords, GLOBAL const int4* RESTRICT atomCellOffset,
         GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, GLOBAL mixed4* RESTRICT velm,
         mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ) {
     for (int body = GLOBAL_ID; body < numBodies; body += GLOBAL_SIZE) {
         int type = bodyType[body];
-        int numRotations = typeInfo[type].y;
+        int4 info = typeInfo[type];
+        int numRotations = info.y;
         mixed q[9], position[3], velocity[3], angularMomentum[3], inertia[3], omega[3];
         for (int i = 0; i < 3; i++)
             inertia[i] = typeParams[type*TYPE_STRIDE+TP_MASS+1+i];
@@ -171,6 +174,6 @@ KERNEL void placeBodyAtoms(int numBodies, GLOBAL const mixed4* RESTRICT bodyPosi
         loadVector(bodyAngularMomentum, body, angularMomentum);
         angularVelocity(numRotations, angularMomentum, inertia, omega);
         placeBodyParticles(body, numRotations, 1, q, position, velocity, omega, bodyImage[body], bodyRotation, bodyAtomStart,
-                atomSlot, atomCoords, atomCellOffset, posq, posqCorrection, velm, boxVecX, boxVecY, boxVecZ);
+                atomSlot, &typeCoords[info.x], atomCellOffset, posq, posqCorrection, velm, boxVecX, boxVecY, boxVecZ);
     }
 }

@@ -45,14 +45,15 @@ KERNEL void computeCenterOfMassVelocity(int numBodies, mixed inverseTotalMass, G
 KERNEL void computeBodyKineticEnergies(int numBodies, mixed timeShift, GLOBAL const mixed4* RESTRICT bodyVelocity,
         GLOBAL const mixed4* RESTRICT bodyAngularMomentum, GLOBAL const mixed4* RESTRICT bodyRotation,
         GLOBAL const int* RESTRICT bodyType, GLOBAL const int* RESTRICT bodyAtomStart, GLOBAL const int* RESTRICT atomSlot,
-        GLOBAL const mixed4* RESTRICT atomCoords, GLOBAL const mm_long* RESTRICT force, GLOBAL const mixed* RESTRICT typeParams,
+        GLOBAL const mixed4* RESTRICT typeCoords, GLOBAL const mm_long* RESTRICT force, GLOBAL const mixed* RESTRICT typeParams,
         GLOBAL const int4* RESTRICT typeInfo, GLOBAL mixed4* RESTRICT energy) {
     LOCAL mixed sums[3*REDUCTION_GROUP_SIZE];
     mixed translational = 0, rotational = 0, p[3] = {0, 0, 0};
     for (int body = GLOBAL_ID; body < numBodies; body += GLOBAL_SIZE) {
         int type = bodyType[body];
         GLOBAL const mixed* tp = &typeParams[type*TYPE_STRIDE];
-        int numRotations = typeInfo[type].y;
+        int4 info = typeInfo[type];
+        int numRotations = info.y;
         mixed mass = tp[TP_MASS];
         mixed v[3], j[3];
         loadVector(bodyVelocity, body, v);
@@ -60,7 +61,7 @@ KERNEL void computeBodyKineticEnergies(int numBodies, mixed timeShift, GLOBAL co
         if (timeShift != 0) {
             mixed q[9], f[3], torque[3];
             loadRotation(bodyRotation, body, q);
-            loadBodyForce(body, numRotations, q, bodyAtomStart, atomSlot, atomCoords, force, f, torque);
+            loadBodyForce(body, numRotations, q, bodyAtomStart, atomSlot, &typeCoords[info.x], force, f, torque);
             for (int i = 0; i < 3; i++) {
                 v[i] += f[i]*(timeShift/mass);
                 j[i] += timeShift*torque[i];

@@ -299,7 +299,7 @@ DEVICE void scalarFlow(Body* b, GLOBAL const mixed* RESTRICT tp, int scheme, mix
 DEVICE void stepBody(int body, int frictionClass, int numRotations, int frictionless, mixed h, int removeMotion, int renormalize,
         GLOBAL mixed4* RESTRICT bodyPosition, GLOBAL mixed4* RESTRICT bodyVelocity, GLOBAL mixed4* RESTRICT bodyAngularMomentum,
         GLOBAL mixed4* RESTRICT bodyRotation, GLOBAL const int* RESTRICT bodyType, GLOBAL const int* RESTRICT bodyAtomStart,
-        GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT atomCoords, GLOBAL const int4* RESTRICT atomCellOffset,
+        GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT typeCoords, GLOBAL const int4* RESTRICT atomCellOffset,
         GLOBAL const mm_long* RESTRICT force, GLOBAL const mixed* RESTRICT typeParams, GLOBAL const int4* RESTRICT typeInfo,
         GLOBAL const float4* RESTRICT random, int randomIndex, int randomPerBody, GLOBAL const mixed4* RESTRICT centerOfMassVelocity,
         int periodic, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ, GLOBAL int4* RESTRICT bodyImage,
@@ -325,13 +325,14 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int friction
         b.velocity[2] -= v.z;
     }
     mixed totalForce[3], torque[3];
-    loadBodyForce(body, numRotations, b.q, bodyAtomStart, atomSlot, atomCoords, force, totalForce, torque);
+    GLOBAL const mixed4* RESTRICT bodyCoords = &typeCoords[info.x];
+    loadBodyForce(body, numRotations, b.q, bodyAtomStart, atomSlot, bodyCoords, force, totalForce, torque);
 
     // This body's normal random numbers.
     // The loop has a constant bound so that it unrolls and rnd stays in registers: with a runtime
     // bound rnd lives in local memory, which moves more bytes than the whole step needs.
-    float rnd[24];
-    for (int i = 0; i < 6; i++) {
+    float rnd[4*MAX_RANDOM_FLOAT4_PER_BODY];
+    for (int i = 0; i < MAX_RANDOM_FLOAT4_PER_BODY; i++) {
         float4 r = (i < randomPerBody ? random[randomIndex+randomPerBody*body+i] : make_float4(0, 0, 0, 0));
         rnd[4*i] = r.x;
         rnd[4*i+1] = r.y;
@@ -363,7 +364,8 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int friction
     }
     if (renormalize && frictionClass != CLASS_SCALAR)
         orthonormalize(b.q);
-    int4 image = bodyImage[body];
+    // Without a periodic box a body never leaves it: its image stays zero, and is not read.
+    int4 image = (periodic ? bodyImage[body] : make_int4(0, 0, 0, 0));
     if (periodic && keepInBox(b.position, &image, boxVecX, boxVecY, boxVecZ))
         bodyImage[body] = image;
     storeVector(bodyPosition, body, b.position);
@@ -374,21 +376,21 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int friction
     mixed omega[3];
     angularVelocity(numRotations, b.angularMomentum, b.inertia, omega);
     placeBodyParticles(body, numRotations, haveRotation, b.q, b.position, b.velocity, omega, image, bodyRotation, bodyAtomStart,
-            atomSlot, atomCoords, atomCellOffset, posq, posqCorrection, velm, boxVecX, boxVecY, boxVecZ);
+            atomSlot, bodyCoords, atomCellOffset, posq, posqCorrection, velm, boxVecX, boxVecY, boxVecZ);
 }
 
 #define STEP_KERNEL(name, frictionClass, numRotations) \
 KERNEL void name(int first, int last, int frictionless, mixed h, int removeMotion, int renormalize, \
         GLOBAL mixed4* RESTRICT bodyPosition, GLOBAL mixed4* RESTRICT bodyVelocity, GLOBAL mixed4* RESTRICT bodyAngularMomentum, \
         GLOBAL mixed4* RESTRICT bodyRotation, GLOBAL const int* RESTRICT bodyType, GLOBAL const int* RESTRICT bodyAtomStart, \
-        GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT atomCoords, GLOBAL const int4* RESTRICT atomCellOffset, \
+        GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT typeCoords, GLOBAL const int4* RESTRICT atomCellOffset, \
         GLOBAL const mm_long* RESTRICT force, GLOBAL const mixed* RESTRICT typeParams, GLOBAL const int4* RESTRICT typeInfo, \
         GLOBAL const float4* RESTRICT random, int randomIndex, int randomPerBody, GLOBAL const mixed4* RESTRICT centerOfMassVelocity, \
         int periodic, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ, GLOBAL int4* RESTRICT bodyImage, \
         GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, GLOBAL mixed4* RESTRICT velm) { \
     for (int body = first+GLOBAL_ID; body < last; body += GLOBAL_SIZE) \
         stepBody(body, frictionClass, numRotations, frictionless, h, removeMotion, renormalize, bodyPosition, bodyVelocity, \
-                bodyAngularMomentum, bodyRotation, bodyType, bodyAtomStart, atomSlot, atomCoords, atomCellOffset, force, typeParams, \
+                bodyAngularMomentum, bodyRotation, bodyType, bodyAtomStart, atomSlot, typeCoords, atomCellOffset, force, typeParams, \
                 typeInfo, random, randomIndex-randomPerBody*first, randomPerBody, centerOfMassVelocity, periodic, boxVecX, boxVecY, \
                 boxVecZ, bodyImage, posq, posqCorrection, velm); \
 }
