@@ -39,7 +39,8 @@ import openmm.unit as unit
 
 import rigidlangevin as rl
 from rigidlangevin.ensemble import broadcast, run_ensemble
-from rigidlangevin.statistics import block_error, standard_error
+from rigidlangevin import statistics
+from rigidlangevin.statistics import block_error
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import banana_model as bm  # noqa: E402
@@ -227,16 +228,12 @@ def correlation(series, lags):
     return out
 
 
-def mean_square_displacement(com, lags):
-    n = len(com)
-    return np.array([np.mean(np.sum((com[lag:]-com[:n-lag])**2, axis=2)) for lag in range(lags)])
-
-
 def analyse(com, vel, axis):
     """Observables of one run: VACF, C_u, MSD and the diffusion constants fitted from them."""
     samples = len(com)
     lags = max(4, samples//4)
-    vacf, cu, msd = correlation(vel, min(lags, int(2/SAMPLE_PS))), correlation(axis, lags), mean_square_displacement(com, lags)
+    vacf, cu = correlation(vel, min(lags, int(2/SAMPLE_PS))), correlation(axis, lags)
+    msd = statistics.mean_square_displacement(com, range(lags))
     t = np.arange(lags)*SAMPLE_PS
     window = slice(lags//2, lags)
     d_t = np.polyfit(t[window], msd[window], 1)[0]/6

@@ -28,6 +28,7 @@ import openmm.unit as unit
 
 import rigidlangevin as rl
 import rigidlangevin.hydrodynamics as hydro
+from rigidlangevin import statistics
 
 TEMPERATURE = 293.15*unit.kelvin
 VISCOSITY = 1.002*rl.centipoise   # water at 20 C
@@ -105,9 +106,8 @@ def measure(centres, axes, groups):
     copies = centres.shape[1]
     d_t, d_r = [], []
     for g in np.array_split(np.arange(copies), groups):
-        msd = [np.mean(np.sum((centres[lag:, g]-centres[:-lag, g])**2, axis=2)) for lag in lags]
         turn = [1-np.mean(np.sum(axes[lag:, g]*axes[:-lag, g], axis=3)) for lag in lags]
-        d_t.append(np.polyfit(lags, msd, 1)[0]/6)
+        d_t.append(statistics.diffusion_constant(centres[:, g], 1.0, lags))
         d_r.append(np.polyfit(lags, turn, 1)[0]/2)
     return np.array(d_t), np.array(d_r)
 

@@ -44,6 +44,7 @@ import openmm as mm
 import openmm.unit as unit
 
 import rigidlangevin as rl
+from rigidlangevin import statistics
 from rigidlangevin.statistics import block_error, standard_error
 
 #: Fennell & Gezelter 2004: model -> (density g/cm^3, its error, D 1e-5 cm^2/s, its error).
@@ -98,12 +99,9 @@ def relative_to_centre_of_mass(trajectory):
 
 def diffusion_constant(trajectory, dt, lags):
     """D (nm^2/ps) from a trajectory (frames x molecules x 3, unwrapped) sampled every dt ps: the
-    least-squares slope over lags[0]..lags[1] ps of the mean-square displacement (averaged over
-    molecules and every time origin), divided by 6."""
+    mean-square displacement's slope over lags[0]..lags[1] ps."""
     first, last = (int(round(lag/dt)) for lag in lags)
-    steps = np.arange(first, last+1)
-    msd = np.array([np.mean(np.sum((trajectory[k:]-trajectory[:-k])**2, axis=2)) for k in steps])
-    return float(np.polyfit(steps*dt, msd, 1)[0]/6)
+    return statistics.diffusion_constant(trajectory, dt, range(first, last+1))
 
 
 def npt(system, positions, platform, args, seed):

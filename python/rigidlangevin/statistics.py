@@ -1,5 +1,6 @@
 """Standard errors of simulation averages: of correlated time series (block averages) and of
-independent estimates (replicas, groups of bodies)."""
+independent estimates (replicas, groups of bodies); and the mean-square displacement and the
+diffusion constant fitted to it."""
 import math
 
 import numpy as np
@@ -37,3 +38,18 @@ def welch_degrees_of_freedom(error_a, dof_a, error_b, dof_b):
     """Welch-Satterthwaite degrees of freedom of the combined error of a difference of two means."""
     a, b = error_a**2, error_b**2
     return (a+b)**2/(a**2/dof_a+b**2/dof_b)
+
+
+def mean_square_displacement(trajectory, lags):
+    """Mean-square displacement at each lag (in frames) of a trajectory (frames x particles x 3,
+    unwrapped: followed through any periodic wrapping), averaged over particles and every time origin."""
+    trajectory = np.asarray(trajectory, dtype=float)
+    n = len(trajectory)
+    return np.array([np.mean(np.sum((trajectory[lag:]-trajectory[:n-lag])**2, axis=-1)) for lag in lags])
+
+
+def diffusion_constant(trajectory, dt, lags):
+    """D = slope/6 of the least-squares line through the mean-square displacement over `lags`
+    (frames), with frames dt apart: in length^2 per unit of dt."""
+    lags = np.asarray(lags)
+    return float(np.polyfit(lags*dt, mean_square_displacement(trajectory, lags), 1)[0]/6)
