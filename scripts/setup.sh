@@ -19,7 +19,7 @@ trap 'fail' ERR
 step() { current_step="$1"; echo "==> $1"; }
 
 # 1. System packages (Debian). Only the missing ones are installed.
-APT_PACKAGES=(build-essential cmake libeigen3-dev libgtest-dev
+APT_PACKAGES=(build-essential cmake libeigen3-dev libgtest-dev librandom123-dev
               ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
               libopenmpi-dev openmpi-bin)
 step "checking Debian packages"

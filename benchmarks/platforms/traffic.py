@@ -62,26 +62,25 @@ def _body_state(n, precision):
 
 
 def common_current(n, precision, periodic=False):
-    """Bytes per body-step of each common kernel as written (ExactFlow): one pass per body that steps it
-    and places its particles, and OpenMM's random-number kernel. Body-frame coordinates are read per
-    type (from cache); the body's periodic image only in a periodic box (integrator_cost.py's bodies
-    are not in one)."""
+    """Bytes per body-step of the common step kernel as written (ExactFlow): one pass per body that
+    steps it and places its particles, making its random numbers itself (rigidBodyRandom.cc).
+    Body-frame coordinates are read per type (from cache); the body's periodic image only in a
+    periodic box (integrator_cost.py's bodies are not in one)."""
     m, r = PRECISIONS[precision]
-    random = 16*random_float4(n)
     step = (INT+INT+(INT4 if periodic else 0)         # bodyType, bodyAtomStart, bodyImage
             + _body_state(n, precision)
             + n*(INT+FORCE)                           # atomSlot, force
-            + _particle_placement(n, precision)
-            + random)                                 # the random numbers generateRandomNumbers wrote
-    return {'generateRandomNumbers': random, 'step': step}
+            + _particle_placement(n, precision))
+    return {'step': step}
 
 
 def common_fused(n, precision):
-    """The same as profiled on the H100 after the step and the placement were fused (commit 3ed7dd0):
-    body-frame coordinates read per particle, the image read in any box."""
+    """The kernels as profiled on the H100 after the step and the placement were fused (commit
+    3ed7dd0): body-frame coordinates read per particle, the image read in any box, and the random
+    numbers OpenMM's generateRandomNumbers kernel wrote read back."""
     m, r = PRECISIONS[precision]
-    current = common_current(n, precision, periodic=True)
-    return {**current, 'step': current['step']+n*4*m}
+    random = 16*random_float4(n)
+    return {'generateRandomNumbers': random, 'step': common_current(n, precision, periodic=True)['step']+n*4*m+random}
 
 
 def common_before(n, precision):
@@ -173,16 +172,16 @@ def main():
             minimum, velocities = common_minimum(n, precision)
             total = sum(current.values())
             rows.append({'platform': 'OpenCL/CUDA', 'precision': precision, 'particles': n, 'minimum': minimum,
-                         'particle velocities': velocities, 'before': before, **current, 'current': total,
+                         'particle velocities': velocities, 'before': before, 'current': total,
                          'current/minimum': total/minimum, 'current/(minimum+velocities)': total/(minimum+velocities)})
     for n in PARTICLES:
         minimum, velocities = cpu_minimum(n)
         current = cpu_current(n)
         rows.append({'platform': 'CPU', 'precision': 'double', 'particles': n, 'minimum': minimum, 'particle velocities': velocities,
-                     'before': current, 'step': current, 'current': current, 'current/minimum': current/minimum,
+                     'before': current, 'current': current, 'current/minimum': current/minimum,
                      'current/(minimum+velocities)': current/(minimum+velocities)})
-    fields = ['platform', 'precision', 'particles', 'minimum', 'particle velocities', 'before', 'generateRandomNumbers', 'step',
-              'current', 'current/minimum', 'current/(minimum+velocities)']
+    fields = ['platform', 'precision', 'particles', 'minimum', 'particle velocities', 'before', 'current', 'current/minimum',
+              'current/(minimum+velocities)']
     with open(os.path.join(RESULTS, 'traffic.csv'), 'w', newline='') as f:
         writer = csv.DictWriter(f, fieldnames=fields)
         writer.writeheader()
@@ -192,15 +191,14 @@ def main():
              'ExactFlow; 1-particle bodies are points (no rotation), 3 and 10 particles rotate about three axes. '
              '"minimum": body state in and out, forces, slots and positions of the particles; "particle velocities": '
              'what writing them every step adds; "before": the kernels of commit 61978fa (a step kernel, then a particle '
-             'placement kernel); the kernels\' columns are what each moves as written now (the step kernel places its '
-             'bodies\' particles; body-frame coordinates per type; no periodic box, as in integrator_cost.py: a periodic '
-             'box adds 16 bytes, the body\'s image).', '',
-             '| platform | precision | particles | minimum | + particle velocities | before | random numbers | step | today | today / minimum | today / (minimum + velocities) |',
-             '|---|---|---|---|---|---|---|---|---|---|---|']
+             'placement kernel); "today": what the step kernel moves as written now (one pass per body that steps it, places '
+             'its particles and makes its random numbers; body-frame coordinates per type; no periodic box, as in '
+             'integrator_cost.py: a periodic box adds 16 bytes, the body\'s image).', '',
+             '| platform | precision | particles | minimum | + particle velocities | before | today | today / minimum | today / (minimum + velocities) |',
+             '|---|---|---|---|---|---|---|---|---|']
     for r in rows:
-        cell = lambda k: (f'{r[k]:.0f}' if k in r else '')
         lines.append(f"| {r['platform']} | {r['precision']} | {r['particles']} | {r['minimum']} | {r['particle velocities']} | "
-                     f"{r['before']} | {cell('generateRandomNumbers')} | {cell('step')} | {r['current']} | "
+                     f"{r['before']} | {r['current']} | "
                      f"{r['current/minimum']:.2f} | {r['current/(minimum+velocities)']:.2f} |")
 
     measured = [(label, profile_rows(name), precision) for label, name, precision in PROFILES]

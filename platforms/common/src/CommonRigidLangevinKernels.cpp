@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <map>
 #include <numeric>
+#include <random>
 
 using namespace RigidLangevinPlugin;
 using namespace RigidLangevinPlugin::RigidBodyKernelLayout;
@@ -16,10 +17,10 @@ using std::vector;
 
 namespace {
 
-/** Arguments of the step kernels set at every step (the others are fixed). */
+/** Arguments of the step kernels set at every step (the seed: when a checkpoint is loaded; the others are fixed). */
 enum StepArgument {
     StepFirst = 0, StepLast = 1, StepFrictionless = 2, StepSize = 3, StepRemoveMotion = 4, StepRenormalize = 5,
-    StepRandomIndex = 19, StepRandomPerBody = 20, StepBox = 23
+    StepRandomSeed = 18, StepRandomStep = 19, StepRandomPerBody = 20, StepBox = 23
 };
 
 /** The first periodic box vector argument of placeBodyAtoms. */
@@ -79,7 +80,7 @@ private:
 
 CommonIntegrateRigidLangevinStepKernel::CommonIntegrateRigidLangevinStepKernel(string name, const Platform& platform, ComputeContext& cc) :
         RigidLangevinStepKernelBase(name, platform), cc(cc), mixedIsDouble(false), hasSetArguments(false), periodic(false), numBodies(0), numEntries(0),
-        numReductionGroups(1) {
+        numReductionGroups(1), randomSeed(0), randomStep(0) {
 }
 
 void CommonIntegrateRigidLangevinStepKernel::initialize(const System& system, const RigidLangevinIntegrator& integrator) {
@@ -88,7 +89,11 @@ void CommonIntegrateRigidLangevinStepKernel::initialize(const System& system, co
     ContextSelector selector(cc);
     mixedIsDouble = (cc.getUseDoublePrecision() || cc.getUseMixedPrecision());
     periodic = system.usesPeriodicBoundaryConditions();
-    cc.getIntegrationUtilities().initRandomNumberGenerator((unsigned int) integrator.getRandomNumberSeed());
+    // The random numbers' key: the seed, or (seed 0, as OpenMM's integrators take it) one of its own.
+    randomSeed = (unsigned int) integrator.getRandomNumberSeed();
+    if (randomSeed == 0)
+        randomSeed = std::random_device()();
+    randomStep = 0;
     ComputeProgram program = cc.compileProgram(RigidBodyKernelLayout::source(),
             RigidBodyKernelLayout::defines(cc.getPaddedNumAtoms(), mixedIsDouble, integrator.getScheme()));
     vector<ComputeKernel>& kernels = stepKernels[integrator.getScheme()];
@@ -266,8 +271,8 @@ void CommonIntegrateRigidLangevinStepKernel::setStepArguments(vector<ComputeKern
         kernel->addArg(cc.getLongForceBuffer());
         kernel->addArg(typeParams);
         kernel->addArg(typeInfo);
-        kernel->addArg(cc.getIntegrationUtilities().getRandom());
-        kernel->addArg();  // random index
+        kernel->addArg(randomSeed);
+        kernel->addArg();  // randomStep
         kernel->addArg();  // random numbers per body
         kernel->addArg(centerOfMassVelocity);
         kernel->addArg(periodic ? 1 : 0);
@@ -453,10 +458,6 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
             setMixedArg(centerOfMassKernel, 1, 1.0/model->getTotalMass(), mixedIsDouble);
             centerOfMassKernel->execute(ReductionGroupSize, ReductionGroupSize);
         }
-        int numRandom = 0;
-        for (int g = 0; g < NumStepGroups; g++)
-            numRandom += randomFloat4PerBody(g, scheme, frictionless)*(groupStart[g+1]-groupStart[g]);
-        int randomIndex = (numRandom > 0 ? integration.prepareRandomNumbers(numRandom) : 0);
         bool renormalize = (!mixedIsDouble && cc.getStepCount()%OrthonormalizationInterval == 0);
         vector<ComputeKernel>& kernels = stepKernelsFor(scheme);
         if (periodic)
@@ -473,11 +474,11 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
             setMixedArg(kernel, StepSize, h, mixedIsDouble);
             kernel->setArg(StepRemoveMotion, removeMotion ? 1 : 0);
             kernel->setArg(StepRenormalize, renormalize ? 1 : 0);
-            kernel->setArg(StepRandomIndex, randomIndex);
+            kernel->setArg(StepRandomStep, randomStep);
             kernel->setArg(StepRandomPerBody, perBody);
             kernel->execute(count);
-            randomIndex += perBody*count;
         }
+        randomStep++;
     }
     integration.computeVirtualSites();
     cc.setTime(cc.getTime()+h);
@@ -511,8 +512,18 @@ void CommonIntegrateRigidLangevinStepKernel::computeBodyKineticEnergies(ContextI
 }
 
 void CommonIntegrateRigidLangevinStepKernel::createRandomCheckpoint(std::ostream& stream) {
-    // The random numbers are IntegrationUtilities', which the platform's own checkpoint holds.
+    // The generator's whole state: its key and the counter's step.
+    stream.write((char*) &randomSeed, sizeof(randomSeed));
+    stream.write((char*) &randomStep, sizeof(randomStep));
 }
 
 void CommonIntegrateRigidLangevinStepKernel::loadRandomCheckpoint(std::istream& stream) {
+    stream.read((char*) &randomSeed, sizeof(randomSeed));
+    stream.read((char*) &randomStep, sizeof(randomStep));
+    if (!stream)
+        return;  // the caller reports a truncated checkpoint
+    if (hasSetArguments)
+        for (auto& scheme : stepKernels)
+            for (ComputeKernel& kernel : scheme.second)
+                kernel->setArg(StepRandomSeed, randomSeed);
 }

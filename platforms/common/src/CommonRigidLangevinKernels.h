@@ -18,8 +18,10 @@ namespace RigidLangevinPlugin {
  * so that no class pays for another's work and each kernel is compiled for its number of
  * coordinates. One work item per body: gather force and torque from OpenMM's fixed-point force
  * buffer, kick, flow, and place the body's particles; then the platform computes virtual sites. The
- * scheme is compiled into the step kernels (one program per scheme, compiled when first used). Noise comes from
- * OpenMM's IntegrationUtilities random numbers, so its state is part of the platform's checkpoint.
+ * scheme is compiled into the step kernels (one program per scheme, compiled when first used). Each
+ * body makes its normal random numbers in the step kernel from a counter-based generator
+ * (rigidBodyRandom.cc) keyed by the seed, with the body, the draw and randomStep as the counter: the
+ * generator's state is the seed and randomStep, which the integrator's checkpoint holds.
  *
  * Body states are kept in the platform's "mixed" precision (double in mixed and double precision).
  * In single precision the rotation matrices are re-orthonormalised every OrthonormalizationInterval
@@ -65,6 +67,8 @@ private:
     void setBoxArguments();
     bool mixedIsDouble, hasSetArguments, periodic;
     int numBodies, numEntries, numReductionGroups;
+    unsigned int randomSeed;             // the random numbers' key
+    unsigned long long randomStep;       // the counter's step: steps taken since the Context was made (or the checkpoint was)
     std::vector<int> groupStart;         // kernel body range of each step group (RigidBodyKernelLayout)
     std::vector<int> bodyOrder;          // kernel body index -> model body index
     std::vector<int> entryParticle;      // body particle entry -> System particle index

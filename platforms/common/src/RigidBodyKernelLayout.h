@@ -71,7 +71,8 @@ inline std::string stepKernelName(int group) {
 /** The device source: every kernel file, in the order they depend on each other. */
 inline std::string source() {
     return CommonRigidLangevinKernelSources::rigidBodyMath+CommonRigidLangevinKernelSources::rigidBodyAtoms+
-           CommonRigidLangevinKernelSources::rigidBodyStep+CommonRigidLangevinKernelSources::rigidBodyReductions;
+           CommonRigidLangevinKernelSources::rigidBodyRandom+CommonRigidLangevinKernelSources::rigidBodyStep+
+           CommonRigidLangevinKernelSources::rigidBodyReductions;
 }
 
 /**

@@ -14,7 +14,7 @@ using std::vector;
 namespace {
 
 /** 2: body types carry their virtual-site flags. */
-const int CheckpointVersion = 2;
+const int CheckpointVersion = 3;  // 3: the common platforms' random numbers are the integrator's (seed and step)
 
 } // namespace
 

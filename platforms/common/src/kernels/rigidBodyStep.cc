@@ -301,7 +301,7 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int friction
         GLOBAL mixed4* RESTRICT bodyRotation, GLOBAL const int* RESTRICT bodyType, GLOBAL const int* RESTRICT bodyAtomStart,
         GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT typeCoords, GLOBAL const int4* RESTRICT atomCellOffset,
         GLOBAL const mm_long* RESTRICT force, GLOBAL const mixed* RESTRICT typeParams, GLOBAL const int4* RESTRICT typeInfo,
-        GLOBAL const float4* RESTRICT random, int randomIndex, int randomPerBody, GLOBAL const mixed4* RESTRICT centerOfMassVelocity,
+        unsigned int seed, mm_ulong randomStep, int randomPerBody, GLOBAL const mixed4* RESTRICT centerOfMassVelocity,
         int periodic, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ, GLOBAL int4* RESTRICT bodyImage,
         GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, GLOBAL mixed4* RESTRICT velm) {
     const int scheme = STEP_SCHEME;
@@ -328,16 +328,15 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int friction
     GLOBAL const mixed4* RESTRICT bodyCoords = &typeCoords[info.x];
     loadBodyForce(body, numRotations, b.q, bodyAtomStart, atomSlot, bodyCoords, force, totalForce, torque);
 
-    // This body's normal random numbers.
-    // The loop has a constant bound so that it unrolls and rnd stays in registers: with a runtime
-    // bound rnd lives in local memory, which moves more bytes than the whole step needs.
+    // This body's normal random numbers, made here (rigidBodyRandom.cc). The loop has a constant
+    // bound so that it unrolls and rnd stays in registers: with a runtime bound rnd lives in local
+    // memory, which moves more bytes than the whole step needs.
     float rnd[4*MAX_RANDOM_FLOAT4_PER_BODY];
     for (int i = 0; i < MAX_RANDOM_FLOAT4_PER_BODY; i++) {
-        float4 r = (i < randomPerBody ? random[randomIndex+randomPerBody*body+i] : make_float4(0, 0, 0, 0));
-        rnd[4*i] = r.x;
-        rnd[4*i+1] = r.y;
-        rnd[4*i+2] = r.z;
-        rnd[4*i+3] = r.w;
+        if (i < randomPerBody)
+            normalFloat4(seed, body, i, randomStep, &rnd[4*i]);
+        else
+            rnd[4*i] = rnd[4*i+1] = rnd[4*i+2] = rnd[4*i+3] = 0;
     }
     if (scheme == SCHEME_ORIGINAL)
         originalStep(&b, numRotations, tp, totalForce, torque, h, rnd);
@@ -385,13 +384,13 @@ KERNEL void name(int first, int last, int frictionless, mixed h, int removeMotio
         GLOBAL mixed4* RESTRICT bodyRotation, GLOBAL const int* RESTRICT bodyType, GLOBAL const int* RESTRICT bodyAtomStart, \
         GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT typeCoords, GLOBAL const int4* RESTRICT atomCellOffset, \
         GLOBAL const mm_long* RESTRICT force, GLOBAL const mixed* RESTRICT typeParams, GLOBAL const int4* RESTRICT typeInfo, \
-        GLOBAL const float4* RESTRICT random, int randomIndex, int randomPerBody, GLOBAL const mixed4* RESTRICT centerOfMassVelocity, \
+        unsigned int seed, mm_ulong randomStep, int randomPerBody, GLOBAL const mixed4* RESTRICT centerOfMassVelocity, \
         int periodic, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ, GLOBAL int4* RESTRICT bodyImage, \
         GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, GLOBAL mixed4* RESTRICT velm) { \
     for (int body = first+GLOBAL_ID; body < last; body += GLOBAL_SIZE) \
         stepBody(body, frictionClass, numRotations, frictionless, h, removeMotion, renormalize, bodyPosition, bodyVelocity, \
                 bodyAngularMomentum, bodyRotation, bodyType, bodyAtomStart, atomSlot, typeCoords, atomCellOffset, force, typeParams, \
-                typeInfo, random, randomIndex-randomPerBody*first, randomPerBody, centerOfMassVelocity, periodic, boxVecX, boxVecY, \
+                typeInfo, seed, randomStep, randomPerBody, centerOfMassVelocity, periodic, boxVecX, boxVecY, \
                 boxVecZ, bodyImage, posq, posqCorrection, velm); \
 }
 
