@@ -134,12 +134,11 @@ def refusal(error):
     return 'blew up: '+text[:80]
 
 
-def prepare_starts(args, count, seed=5, threads=None, spacing_ps=None):
+def prepare_starts(args, count, seed, spacing_ps=None):
     """`count` equilibrated starting configurations (positions, velocities): the PDB's box relaxed
     at 0.01 P, where rotation decorrelates in picoseconds, then one snapshot every spacing_ps
-    (default start_spacing_ps), all at 1 fs. The S2 replicas' chain runs on one rank with every core."""
-    context, integrator, _, _, _ = water_setup(ROOT/'examples'/'data'/'water256.pdb', 0.01, 'ExactFlow', 1.0, seed,
-                                               args, threads=threads or os.cpu_count() or 1)
+    (default start_spacing_ps), all at 1 fs."""
+    context, integrator, _, _, _ = water_setup(ROOT/'examples'/'data'/'water256.pdb', 0.01, 'ExactFlow', 1.0, seed, args)
     integrator.step(int(round(args.start_equilibration_ps/0.001)))
     starts = []
     for _ in range(count):
@@ -147,6 +146,13 @@ def prepare_starts(args, count, seed=5, threads=None, spacing_ps=None):
         state = context.getState(getPositions=True, getVelocities=True)
         starts.append((state.getPositions(asNumpy=True)._value, state.getVelocities(asNumpy=True)._value))
     return starts
+
+
+def starts_per_rank(args, count, ranks, seed, spacing_ps, label):
+    """`count` starting configurations from one chain per rank (chain k seeded seed+k), on every rank."""
+    chains = [{'count': -(-count//ranks), 'seed': seed+k} for k in range(ranks)]
+    starts = distribute(lambda task: prepare_starts(args, task['count'], task['seed'], spacing_ps), chains, label)
+    return broadcast([s for chain in starts for s in chain][:count] if starts is not None else None)
 
 
 def run_water(task):
@@ -416,10 +422,7 @@ def configurational_temperature(args, ranks, first_replica=0):
     record per run on rank 0 (None elsewhere). Replicas are numbered from first_replica, and their
     chains and noise are seeded by it, so that runs appended to earlier ones are independent of them."""
     n = args.tconf_replicas
-    chains = [{'count': -(-n//ranks), 'seed': 50+first_replica+k} for k in range(ranks)]
-    starts = distribute(lambda task: prepare_starts(args, task['count'], task['seed'], args.threads, TCONF_SPACING_PS),
-                        chains, 'T configurational: starting configurations (0.01 P)')
-    args.starts = broadcast([s for chain in starts for s in chain][:n] if starts is not None else None)
+    args.starts = starts_per_rank(args, n, ranks, 50+first_replica, TCONF_SPACING_PS, 'T configurational: starting configurations (0.01 P)')
     tasks = [{'viscosity': TCONF_VISCOSITY, 'integrator': name, 'step_fs': h, 'seed': 300+first_replica+r, 'replica': r, 'args': args}
              for name, h in TCONF_RUNS for r in range(n)]
     results = distribute(run_water, tasks, f'T configurational at {TCONF_VISCOSITY} P')
@@ -530,12 +533,8 @@ def main(argv=None):
         earlier = read_replicas(out/S2_REPLICAS) if args.s2_append else []
         first = 1+max((r['replica'] for r in earlier), default=-1)
         n = args.replicas
-        # One chain of starts per rank, seeded by the first replica: appended replicas start from
-        # configurations of their own.
-        chains = [{'count': -(-n//ranks), 'seed': 5+first+k} for k in range(ranks)]
-        starts = distribute(lambda task: prepare_starts(args, task['count'], task['seed'], args.threads), chains,
-                            'S2 starting configurations (0.01 P)')
-        args.starts = broadcast([s for chain in starts for s in chain][:n] if starts is not None else None)
+        # Seeded by the first replica: appended replicas start from configurations of their own.
+        args.starts = starts_per_rank(args, n, ranks, 5+first, None, 'S2 starting configurations (0.01 P)')
         reference_tasks = [{'viscosity': eta, 'integrator': 'ExactFlow', 'step_fs': 0.5, 'seed': 101+first+r, 'replica': r, 'args': args}
                            for eta in viscosities for r in range(n)]
         saved = args.production_ps
