@@ -145,6 +145,37 @@ def test_speed_vs_error_s2_replicas_append(tmp_path):
         raise AssertionError('a malformed replica file was read')
 
 
+def test_speed_vs_error_s2_errors_pair_replicas_by_start():
+    """S2's errors of D compare each replica with the reference from its start: a 3 % bias under a
+    10 % spread between starts, which both runs share, stands out by more than 10 standard errors of
+    the paired ratio, where unpaired standard errors (about 4 %) would hide it. Rows appended with
+    fewer integrators (study.py --s2-integrators) keep their own replica counts, and the verdicts
+    take the degrees of freedom of the pairs."""
+    sys.path.insert(0, str(ROOT/'benchmarks'/'speed_vs_error'))
+    import report
+    import study
+    rng = np.random.default_rng(5)
+    starts = 1.0+0.1*rng.standard_normal(8)
+    records = []
+    for integrator, step, bias, replicas in [('ExactFlow', 0.5, 0.0, 8), ('ExactFlow', 2.0, 0.03, 8), ('BAOAB', 2.0, 0.5, 4),
+                                             ('LangevinMiddle+SETTLE', 2.0, 0.5, 4), ('Original', 2.0, 0.0, 4)]:
+        for r in range(replicas):
+            d = starts[r]*(1+bias)*(1+0.005*rng.standard_normal())
+            records.append({'reference': step == 0.5, 'viscosity': 0.1, 'integrator': integrator, 'step (fs)': step, 'replica': r,
+                            'result': {'status': 'ok', 'D translational (nm^2/ps)': d, 'ns/day': 10.0}})
+    rows = {(r['integrator'], r['step (fs)']): r for r in study.s2_rows(records, [0.1], [2.0])}
+    exact, baoab = rows['ExactFlow', 2.0], rows['BAOAB', 2.0]
+    key = 'error D translational (nm^2/ps)'
+    assert exact['replicas'] == exact['paired replicas'] == 8 and baoab['replicas'] == baoab['paired replicas'] == 4
+    assert abs(exact[key]-0.03) < 3*exact[key+' +-'] and exact[key] > 10*exact[key+' +-']
+    unpaired = np.hypot(exact['D translational (nm^2/ps) +-'], rows['ExactFlow', 0.5]['D translational (nm^2/ps) +-'])
+    assert unpaired > 0.03 > 10*exact[key+' +-']
+    assert report.quantile(exact, baoab) == report.T_QUANTILE[3]
+    assert '4-8 replicas in S2' in report.markdown(list(rows.values()), [])
+    # Values proportional to their references, start by start: the ratio is exact.
+    assert np.allclose(report.paired_relative_error(1.05*starts, starts), (0.05, 0.0))
+
+
 def test_traffic_model_bounds_and_matches_the_h100_profiles():
     """benchmarks/platforms/traffic.py: every kernel moves at least the minimum, and the model agrees
     with the H100's measured DRAM bytes kernel by kernel: within 15 % the placement kernel and the

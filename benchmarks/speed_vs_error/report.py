@@ -69,12 +69,16 @@ def cell(r, observable):
 
 def markdown(rows, stability):
     observables = [o for o in DYNAMICAL+CONFIGURATIONAL if any('error '+o in r for r in rows)]
-    replicas = min((int(r['replicas']) for r in rows if r['scene'].startswith('S2') and 'replicas' in r), default=3)
+    counts = sorted({int(r['replicas']) for r in rows if r['scene'].startswith('S2') and 'replicas' in r}) or [3]
+    replicas = counts[0]
     lines = ['Errors against the truth (exact for S1, the 0.5 fs reference for S2), ± one standard error;',
              'VACF and O-O RDF: root-mean-square difference of the normalized function. Standard errors: over',
-             f'{replicas} replicas in S2 ({replicas-1} degrees of freedom, so the verdicts below take differences beyond '
+             f'{"-".join(str(c) for c in sorted({counts[0], counts[-1]}))} replicas in S2 (each row\'s count is '
+             'in results.csv; at least '
+             f'{replicas-1} degrees of freedom, so the verdicts below take differences beyond '
              f'{quantile({"replicas": replicas})} of',
-             'them as real), over 10 groups of bodies (or blocks) in S1.', '',
+             'them as real), over 10 groups of bodies (or blocks) in S1. S2\'s errors of D and of the orientational',
+             'time compare each replica with the reference run from the same start (paired by start).', '',
              '| scene | viscosity (P) | integrator | step (fs) | ns/day | '+' | '.join('error '+o for o in observables)+' |',
              '|'+'---|'*(5+len(observables))]
     for r in rows:
@@ -96,8 +100,8 @@ def _error(r, observable):
 
 def quantile(*points):
     """The t quantile for a difference of these points' errors: the fewest degrees of freedom
-    (replicas - 1 in S2; 10 groups of bodies or blocks - 1 in S1)."""
-    dof = min(int(p.get('replicas', 10))-1 for p in points)
+    (paired replicas - 1, else replicas - 1, in S2; 10 groups of bodies or blocks - 1 in S1)."""
+    dof = min(int(p.get('paired replicas', p.get('replicas', 10)))-1 for p in points)
     return T_QUANTILE.get(dof) or T_QUANTILE[max(k for k in T_QUANTILE if k <= dof)]
 
 
@@ -200,6 +204,15 @@ def paired(values, peers):
     values, peers = np.asarray(values, float), np.asarray(peers, float)
     difference = values-peers
     return float(values.mean()), standard_error(values), float(difference.mean()), standard_error(difference)
+
+
+def paired_relative_error(values, references):
+    """Relative error mean(values)/mean(references) - 1 of replicas paired by start (value i and
+    reference i ran from the same start), and its standard error by the ratio estimator's
+    linearisation z_i = (v_i - R r_i)/mean(r): the starts' shared spread cancels, as in `paired`."""
+    values, references = np.asarray(values, float), np.asarray(references, float)
+    ratio = values.mean()/references.mean()
+    return float(ratio-1), standard_error((values-ratio*references)/references.mean())
 
 
 def write_configurational(out, records, exact, peer):

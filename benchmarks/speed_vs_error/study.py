@@ -500,7 +500,13 @@ def main(argv=None):
                         help="add part tconf's replicas to those in --out's configurational.csv (new starts and seeds)")
     parser.add_argument('--s2-append', action='store_true',
                         help=f"add part s2's replicas to those in --out's {S2_REPLICAS} (new starts and seeds)")
+    parser.add_argument('--s2-integrators', default=','.join(INTEGRATORS),
+                        help='the integrators part s2 runs beside its references (default all); with --s2-append, the '
+                             "others' rows keep their earlier replicas")
     args = parser.parse_args(argv)
+    args.s2_integrators = args.s2_integrators.split(',')
+    if not set(args.s2_integrators) <= set(INTEGRATORS):
+        parser.error(f'--s2-integrators: choose from {",".join(INTEGRATORS)}')
     ranks = int(os.environ.get('OMPI_COMM_WORLD_SIZE', os.environ.get('PMI_SIZE', '1')))
     if args.threads == 0:
         args.threads = max(1, (os.cpu_count() or 1)//ranks)
@@ -542,7 +548,7 @@ def main(argv=None):
         references = distribute(run_water, reference_tasks, 'S2 reference runs (0.5 fs)')
         args.production_ps = saved
         tasks = [{'viscosity': eta, 'integrator': name, 'step_fs': h, 'seed': 7+first+r, 'replica': r, 'args': args}
-                 for eta in viscosities for name in INTEGRATORS for h in water_steps for r in range(n)]
+                 for eta in viscosities for name in args.s2_integrators for h in water_steps for r in range(n)]
         results = distribute(run_water, tasks, 'S2 rigid water')
         if results is not None:
             records = earlier+[{'reference': reference, 'viscosity': t['viscosity'], 'integrator': t['integrator'],
@@ -606,8 +612,33 @@ def s2_rows(records, viscosities, water_steps):
         for name in INTEGRATORS:
             for h in water_steps:
                 measured = combine(results(eta, name, h))
-                rows.append(row('S2 water', eta, {'integrator': name, 'step_fs': h}, measured, errors(measured, truth)))
+                error = errors(measured, truth)
+                paired, count = paired_dynamical_errors(records, eta, name, h) if measured.get('status') == 'ok' else ({}, 0)
+                error.update(paired)
+                rows.append(row('S2 water', eta, {'integrator': name, 'step_fs': h}, measured, error))
+                if paired:
+                    rows[-1]['paired replicas'] = count
     return rows
+
+
+def paired_dynamical_errors(records, viscosity, integrator, step_fs):
+    """Errors of the scalar dynamical observables against the reference runs from the same starts
+    (replica r of every run starts from start r): the spread between starts, which both share
+    (their diffusion constants correlate by 0.1-0.55), leaves the standard error. Replicas without
+    a reference from their start (or the other way round) are left out of these errors. Returns the
+    errors and the number of pairs."""
+    def by_replica(reference, name, h):
+        return {r['replica']: r['result'] for r in records if r['reference'] == reference and r['viscosity'] == viscosity and
+                (r['integrator'], r['step (fs)']) == (name, h) and r['result'].get('status') == 'ok'}
+    measured, references = by_replica(False, integrator, step_fs), by_replica(True, 'ExactFlow', 0.5)
+    common = sorted(set(measured) & set(references))
+    e = {}
+    for key in report.DYNAMICAL:
+        if len(common) < 2 or not all(np.isscalar(measured[r].get(key)) and np.isfinite(measured[r][key]) for r in common):
+            continue
+        error, spread = report.paired_relative_error([measured[r][key] for r in common], [references[r][key] for r in common])
+        e[key], e[key+' +-'] = abs(error), spread
+    return e, len(common)
 
 
 def write_replicas(path, records):
