@@ -22,8 +22,9 @@ below: before the kernels were rewritten, after each step of the rewrite) and th
     python benchmarks/platforms/traffic.py       # writes results/traffic.md and results/traffic.csv
 
 It also measures this machine's memory bandwidth (a numpy copy of 400 MB, one thread, bytes read and
-written), as the CPU kernels' peak; run it on a quiet machine.
+written), as the CPU kernels' peak; run it on a quiet machine, or pass --host-bandwidth GB/s.
 """
+import argparse
 import csv
 import math
 import os
@@ -47,40 +48,50 @@ def random_float4(n):
     return math.ceil((2 if rotations(n) == 0 else 4)*(3+rotations(n))/4)
 
 
-def _particle_placement(n, precision):
+def _particle_placement(n, precision, reads_velm):
     """Per particle, what placing it moves beyond what the force gather reads: its periodic cell
-    offset, posq in (for its charge) and out, posqCorrection out in mixed precision, velm in (for its
-    inverse mass) and out."""
+    offset, posq in (for its charge) and out, posqCorrection out in mixed precision, velm out, and
+    velm in where the kernel reads the inverse mass back from it (the kernels up to the profiled
+    fused ones; today's take it from the type's coordinates)."""
     m, r = PRECISIONS[precision]
-    return n*(INT4+2*4*r+(4*r if precision == 'mixed' else 0)+2*4*m)
+    return n*(INT4+2*4*r+(4*r if precision == 'mixed' else 0)+(2 if reads_velm else 1)*4*m)
 
 
-def _body_state(n, precision):
-    """Position, velocity, angular momentum (mixed4 each) and rotation matrix rows (3 mixed4), in and out."""
+def _body_state(n, precision, points_move_angular_momentum, rotation_mixed4):
+    """Position, velocity, angular momentum (mixed4 each) and the rotation (rotation_mixed4 mixed4:
+    3 for the matrix's rows, 1 where two rows are packed into it and the other vectors' w), in and
+    out; a body that does not rotate has no rotation, and no angular momentum where the kernel skips it."""
     m, r = PRECISIONS[precision]
-    return 2*3*4*m+(2*12*m if rotations(n) > 0 else 0)
+    vectors = 3 if rotations(n) > 0 or points_move_angular_momentum else 2
+    return 2*vectors*4*m+(2*rotation_mixed4*4*m if rotations(n) > 0 else 0)
 
 
 def common_current(n, precision, periodic=False):
     """Bytes per body-step of the common step kernel as written (ExactFlow): one pass per body that
     steps it and places its particles, making its random numbers itself (rigidBodyRandom.cc).
-    Body-frame coordinates are read per type (from cache); the body's periodic image only in a
-    periodic box (integrator_cost.py's bodies are not in one)."""
+    Body-frame coordinates, with the inverse masses written to velm.w, are read per type (from
+    cache); the body's periodic image only in a periodic box (integrator_cost.py's bodies are not in
+    one); a body that does not rotate neither reads nor writes an angular momentum; the rotation's
+    first two rows fill one mixed4 and the w of velocity and angular momentum."""
     m, r = PRECISIONS[precision]
     step = (INT+INT+(INT4 if periodic else 0)         # bodyType, bodyAtomStart, bodyImage
-            + _body_state(n, precision)
+            + _body_state(n, precision, points_move_angular_momentum=False, rotation_mixed4=1)
             + n*(INT+FORCE)                           # atomSlot, force
-            + _particle_placement(n, precision))
+            + _particle_placement(n, precision, reads_velm=False))
     return {'step': step}
 
 
 def common_fused(n, precision):
     """The kernels as profiled on the H100 after the step and the placement were fused (commit
-    3ed7dd0): body-frame coordinates read per particle, the image read in any box, and the random
-    numbers OpenMM's generateRandomNumbers kernel wrote read back."""
+    3ed7dd0): body-frame coordinates read per particle, the image read in any box, velm read back for
+    the inverse masses, every body's angular momentum moved, and the random numbers OpenMM's
+    generateRandomNumbers kernel wrote read back."""
     m, r = PRECISIONS[precision]
     random = 16*random_float4(n)
-    return {'generateRandomNumbers': random, 'step': common_current(n, precision, periodic=True)['step']+n*4*m+random}
+    step = (INT+INT+INT4+_body_state(n, precision, points_move_angular_momentum=True, rotation_mixed4=3)
+            + n*(INT+FORCE+4*m)                       # atomSlot, force, atomCoords
+            + _particle_placement(n, precision, reads_velm=True)+random)
+    return {'generateRandomNumbers': random, 'step': step}
 
 
 def common_before(n, precision):
@@ -89,10 +100,10 @@ def common_before(n, precision):
     m, r = PRECISIONS[precision]
     rotating = rotations(n) > 0
     random = 16*random_float4(n)
-    step = INT+INT+_body_state(n, precision)+n*(INT+4*m+FORCE)+random
+    step = INT+INT+_body_state(n, precision, points_move_angular_momentum=True, rotation_mixed4=3)+n*(INT+4*m+FORCE)+random
     place = (INT+12*m+4*m+4*m+(4*m if rotating else 0)+INT4  # per body: type, rotation, position, velocity, angular momentum, image
              + n*(INT+INT+4*m)                        # per particle: atomBody, atomSlot, atomCoords
-             + _particle_placement(n, precision))
+             + _particle_placement(n, precision, reads_velm=True))
     return {'generateRandomNumbers': random, 'step': step, 'placeBodyAtoms': place}
 
 
@@ -163,7 +174,10 @@ PROFILES = [('before (61978fa)', 'gpu_bandwidth_before.csv', 'mixed'),
             ('fused, single', 'gpu_bandwidth_single.csv', 'single')]
 
 
-def main():
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    parser.add_argument('--host-bandwidth', type=float, help='GB/s measured earlier on a quiet machine, for when this one is busy')
+    args = parser.parse_args(argv)
     rows = []
     for precision in PRECISIONS:
         for n in PARTICLES:
@@ -192,7 +206,9 @@ def main():
              '"minimum": body state in and out, forces, slots and positions of the particles; "particle velocities": '
              'what writing them every step adds; "before": the kernels of commit 61978fa (a step kernel, then a particle '
              'placement kernel); "today": what the step kernel moves as written now (one pass per body that steps it, places '
-             'its particles and makes its random numbers; body-frame coordinates per type; no periodic box, as in '
+             'its particles and makes its random numbers; body-frame coordinates per type, with the inverse masses it writes to '
+             'velm.w; the rotation\'s first two rows in one mixed4 and the w of velocity and angular momentum; no angular '
+             'momentum for a body that does not rotate; no periodic box, as in '
              'integrator_cost.py: a periodic box adds 16 bytes, the body\'s image).', '',
              '| platform | precision | particles | minimum | + particle velocities | before | today | today / minimum | today / (minimum + velocities) |',
              '|---|---|---|---|---|---|---|---|---|']
@@ -221,7 +237,7 @@ def main():
             lines.append(f'- {label}: the whole step moves {whole:.0f} bytes per body-step, {whole/minimum:.2f} times the minimum '
                          f'({minimum}), {whole/(minimum+velocities):.2f} times with particle velocities ({minimum+velocities}); '
                          f'{wall["us_per_step"]} us per step, {wall["dram_pct_of_peak"]}% of peak DRAM bandwidth.')
-    peak = host_bandwidth()
+    peak = args.host_bandwidth or host_bandwidth()
     lines += ['', '## Achieved bandwidth (model bytes / measured time per body-step, 1e6 bodies, integrator_cost.py, kernels of 3ed7dd0)', '',
               f'This machine copies memory at {peak:.1f} GB/s (one thread, read and write counted): the CPU and PoCL rows '
               'are far below it, so there the step is bound by arithmetic, not by memory.', '',

@@ -137,16 +137,20 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
     }
     numEntries = entryParticle.size();
 
-    // Body-frame coordinates once per type (a type's bodies share them), the type's first at
-    // typeInfo[type].x; w: the weight of the particle's force in the body's force and torque (OpenMM
-    // has already handed a virtual site's force to its parents).
+    // Body-frame coordinates once per type (a type's bodies share them, and their masses), the
+    // type's first at typeInfo[type].x. w: the particle's inverse mass exactly as OpenMM puts it in
+    // velm.w (1/m, 0 if massless), which the step writes there without reading velm; -1 marks a
+    // virtual site, whose force OpenMM has already handed to its parents and must not count again
+    // (its inverse mass is 0: OpenMM's sites are massless).
     vector<mm_double4> coords;
     vector<int> coordStart(model.getNumTypes());
     for (int t = 0; t < model.getNumTypes(); t++) {
         const BodyType& type = model.getType(t);
         coordStart[t] = coords.size();
-        for (int i = 0; i < (int) type.coords.size(); i++)
-            coords.push_back(mm_double4(type.coords[i][0], type.coords[i][1], type.coords[i][2], type.isVirtualSite[i] ? 0 : 1));
+        for (int i = 0; i < (int) type.coords.size(); i++) {
+            double w = (type.isVirtualSite[i] ? -1.0 : type.masses[i] == 0 ? 0.0 : 1.0/type.masses[i]);
+            coords.push_back(mm_double4(type.coords[i][0], type.coords[i][1], type.coords[i][2], w));
+        }
     }
     atomStart[numBodies] = numEntries;
     numReductionGroups = std::max(1, std::min(cc.getNumThreadBlocks(), (numBodies+ReductionGroupSize-1)/ReductionGroupSize));
@@ -322,7 +326,7 @@ void CommonIntegrateRigidLangevinStepKernel::initializeMixedArrays(int numTypes,
     initializeArray<Mixed4>(bodyPosition, cc, numBodies, "rigidBodyPosition");
     initializeArray<Mixed4>(bodyVelocity, cc, numBodies, "rigidBodyVelocity");
     initializeArray<Mixed4>(bodyAngularMomentum, cc, numBodies, "rigidBodyAngularMomentum");
-    initializeArray<Mixed4>(bodyRotation, cc, 3*numBodies, "rigidBodyRotation");
+    initializeArray<Mixed4>(bodyRotation, cc, numBodies, "rigidBodyRotation");
     initializeArray<Mixed4>(typeCoords, cc, numTypeCoords, "rigidBodyTypeCoords");
     initializeArray<Mixed>(typeParams, cc, TypeStride*std::max(1, numTypes), "rigidBodyTypeParams");
     initializeArray<Mixed4>(centerOfMassVelocity, cc, 1, "rigidBodyCenterOfMassVelocity");
@@ -331,7 +335,7 @@ void CommonIntegrateRigidLangevinStepKernel::initializeMixedArrays(int numTypes,
 
 template <class Mixed, class Mixed4>
 void CommonIntegrateRigidLangevinStepKernel::uploadStates(const vector<BodyState>& states) {
-    vector<Mixed4> position(numBodies), velocity(numBodies), angularMomentum(numBodies), rotation(3*numBodies);
+    vector<Mixed4> position(numBodies), velocity(numBodies), angularMomentum(numBodies), rotation(numBodies);
     vector<mm_int4> image(numBodies, mm_int4(0, 0, 0, 0));
     Vec3 box[3];
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
@@ -342,10 +346,11 @@ void CommonIntegrateRigidLangevinStepKernel::uploadStates(const vector<BodyState
         if (periodic)
             image[k] = imageOf(r, box);
         position[k] = Mixed4((Mixed) r[0], (Mixed) r[1], (Mixed) r[2], 0);
-        velocity[k] = Mixed4((Mixed) s.velocity[0], (Mixed) s.velocity[1], (Mixed) s.velocity[2], 0);
-        angularMomentum[k] = Mixed4((Mixed) s.angularMomentum[0], (Mixed) s.angularMomentum[1], (Mixed) s.angularMomentum[2], 0);
-        for (int i = 0; i < 3; i++)
-            rotation[3*k+i] = Mixed4((Mixed) s.rotation[i][0], (Mixed) s.rotation[i][1], (Mixed) s.rotation[i][2], 0);
+        // The rotation's first two rows, packed as the kernels keep them (rigidBodyAtoms.cc).
+        velocity[k] = Mixed4((Mixed) s.velocity[0], (Mixed) s.velocity[1], (Mixed) s.velocity[2], (Mixed) s.rotation[1][1]);
+        angularMomentum[k] = Mixed4((Mixed) s.angularMomentum[0], (Mixed) s.angularMomentum[1], (Mixed) s.angularMomentum[2],
+                                    (Mixed) s.rotation[1][2]);
+        rotation[k] = Mixed4((Mixed) s.rotation[0][0], (Mixed) s.rotation[0][1], (Mixed) s.rotation[0][2], (Mixed) s.rotation[1][0]);
     }
     bodyPosition.upload(position);
     bodyImage.upload(image);
@@ -371,11 +376,13 @@ void CommonIntegrateRigidLangevinStepKernel::downloadStates(vector<BodyState>& s
         s.position = Vec3(position[k].x, position[k].y, position[k].z)+box[0]*image[k].x+box[1]*image[k].y+box[2]*image[k].z;
         s.velocity = Vec3(velocity[k].x, velocity[k].y, velocity[k].z);
         s.angularMomentum = Vec3(angularMomentum[k].x, angularMomentum[k].y, angularMomentum[k].z);
-        for (int i = 0; i < 3; i++) {
-            const Mixed4& row = rotation[3*k+i];
-            s.rotation[i][0] = row.x;
-            s.rotation[i][1] = row.y;
-            s.rotation[i][2] = row.z;
+        // The first two rows as the kernels keep them; the third is their cross product.
+        Vec3 row0(rotation[k].x, rotation[k].y, rotation[k].z), row1(rotation[k].w, velocity[k].w, angularMomentum[k].w);
+        Vec3 row2 = row0.cross(row1);
+        for (int j = 0; j < 3; j++) {
+            s.rotation[0][j] = row0[j];
+            s.rotation[1][j] = row1[j];
+            s.rotation[2][j] = row2[j];
         }
     }
 }

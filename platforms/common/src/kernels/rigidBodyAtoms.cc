@@ -6,23 +6,41 @@
  * bodies: typeCoords from typeInfo[type].x, in the same order, so that a step reads them from cache
  * instead of once per particle from memory.
  *
- * Body states: position, velocity and body-frame angular momentum are mixed4 (w unused), the
- * rotation Q three mixed4 per body (its rows). Per-type parameters come from the host with the
- * offsets TP_* into blocks of TYPE_STRIDE values.
+ * Body states: position, velocity and body-frame angular momentum are mixed4. The rotation Q, whose
+ * rows are orthonormal and right-handed, is kept as its first two rows, the third being their cross
+ * product: bodyRotation holds (Q00, Q01, Q02, Q10), bodyVelocity.w Q11 and bodyAngularMomentum.w
+ * Q12. A body that rotates reads and writes those vectors anyway, so its rotation moves one mixed4
+ * each way, as a quaternion would (the step is bound by memory traffic), and the host's copy of
+ * the state (two rows in double) holds the device's exactly, so checkpoints continue bit for bit.
+ * Per-type parameters come from the host with the offsets TP_* into blocks of TYPE_STRIDE values.
  */
 
-DEVICE void loadRotation(GLOBAL const mixed4* RESTRICT rotation, int body, mixed* q) {
-    for (int i = 0; i < 3; i++) {
-        mixed4 row = rotation[3*body+i];
-        q[3*i] = row.x;
-        q[3*i+1] = row.y;
-        q[3*i+2] = row.z;
-    }
+/**
+ * Q (rows, 9 values) from its first row and Q10 (rows), and Q11 and Q12, made orthonormal: the
+ * first row normalized, the second made orthogonal to it and normalized (Gram-Schmidt), the third
+ * their cross product. Without that, rounding errors grow: a rotation mixing a stored row with
+ * the derived one passes the stored rows' error in length on to both, by sin^2 of its angle each
+ * step (a 0.06 rad turn per step deformed bodies after 6000 steps in double precision).
+ */
+DEVICE void unpackRotation(mixed4 rows, mixed q11, mixed q12, mixed* q) {
+    mixed scale0 = 1/sqrt(rows.x*rows.x+rows.y*rows.y+rows.z*rows.z);
+    q[0] = scale0*rows.x;
+    q[1] = scale0*rows.y;
+    q[2] = scale0*rows.z;
+    mixed overlap = q[0]*rows.w+q[1]*q11+q[2]*q12;
+    mixed r[3] = {rows.w-overlap*q[0], q11-overlap*q[1], q12-overlap*q[2]};
+    mixed scale1 = 1/sqrt(r[0]*r[0]+r[1]*r[1]+r[2]*r[2]);
+    q[3] = scale1*r[0];
+    q[4] = scale1*r[1];
+    q[5] = scale1*r[2];
+    q[6] = q[1]*q[5]-q[2]*q[4];
+    q[7] = q[2]*q[3]-q[0]*q[5];
+    q[8] = q[0]*q[4]-q[1]*q[3];
 }
 
-DEVICE void storeRotation(GLOBAL mixed4* RESTRICT rotation, int body, const mixed* q) {
-    for (int i = 0; i < 3; i++)
-        rotation[3*body+i] = make_mixed4(q[3*i], q[3*i+1], q[3*i+2], 0);
+DEVICE void loadRotation(GLOBAL const mixed4* RESTRICT rotation, GLOBAL const mixed4* RESTRICT velocity,
+        GLOBAL const mixed4* RESTRICT angularMomentum, int body, mixed* q) {
+    unpackRotation(rotation[body], velocity[body].w, angularMomentum[body].w, q);
 }
 
 DEVICE void loadVector(GLOBAL const mixed4* RESTRICT array, int index, mixed* v) {
@@ -38,9 +56,9 @@ DEVICE void storeVector(GLOBAL mixed4* RESTRICT array, int index, const mixed* v
 
 /**
  * The total force on body k (lab frame) and the torque about its centre of mass (body frame),
- * from OpenMM's fixed-point force buffer, summed over the body's particles in their order, each
- * weighted by coords[i].w (the body's type's coordinates): 0 for a virtual site, whose force OpenMM
- * has already handed to its parents, 1 otherwise.
+ * from OpenMM's fixed-point force buffer, summed over the body's particles in their order, leaving
+ * out virtual sites (coords[i].w < 0 in the body's type's coordinates), whose force OpenMM has
+ * already handed to their parents.
  */
 DEVICE void loadBodyForce(int body, int numRotations, const mixed* q, GLOBAL const int* RESTRICT bodyAtomStart,
         GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT bodyCoords, GLOBAL const mm_long* RESTRICT force,
@@ -52,7 +70,7 @@ DEVICE void loadBodyForce(int body, int numRotations, const mixed* q, GLOBAL con
     for (int entry = start; entry < end; entry++) {
         int slot = atomSlot[entry];
         mixed4 coords = bodyCoords[entry-start];
-        mixed weight = scale*coords.w;
+        mixed weight = (coords.w < 0 ? 0 : scale);
         mixed f[3] = {weight*force[slot], weight*force[slot+PADDED_NUM_ATOMS], weight*force[slot+2*PADDED_NUM_ATOMS]};
         for (int i = 0; i < 3; i++)
             totalForce[i] += f[i];
@@ -93,12 +111,16 @@ DEVICE bool keepInBox(mixed* r, int4* image, mixed4 boxVecX, mixed4 boxVecY, mix
  * omega the body-frame angular velocity (zero for a body that does not rotate). Positions are
  * stored shifted by the atom's periodic cell offset, as OpenMM keeps them, and by the boxes the
  * body has left (image): both are whole boxes, added before they meet the coordinates. Charges
- * (posq.w) and inverse masses (velm.w) are left alone. q holds the rotation if haveRotation; a
+ * (posq.w) are left alone; inverse masses (velm.w) are written, as OpenMM set them, from the
+ * type's coordinates (their w, where a virtual site's -1 stands for 0), so that velm is not read:
+ * the step is bound by memory traffic. q holds the rotation if haveRotation; a
  * body that does not rotate may skip loading it, and it is read here only for a particle off the
- * centre (a massless site of a point body). bodyCoords: the body's type's coordinates.
+ * centre (a massless site of a point body), from the body state as stored. bodyCoords: the body's
+ * type's coordinates.
  */
 DEVICE void placeBodyParticles(int body, int numRotations, int haveRotation, const mixed* q, const mixed* position,
         const mixed* velocity, const mixed* omega, int4 image, GLOBAL const mixed4* RESTRICT bodyRotation,
+        GLOBAL const mixed4* RESTRICT bodyVelocity, GLOBAL const mixed4* RESTRICT bodyAngularMomentum,
         GLOBAL const int* RESTRICT bodyAtomStart, GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT bodyCoords,
         GLOBAL const int4* RESTRICT atomCellOffset, GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection,
         GLOBAL mixed4* RESTRICT velm, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ) {
@@ -110,7 +132,7 @@ DEVICE void placeBodyParticles(int body, int numRotations, int haveRotation, con
             vectorToLabFrame(q, c, offset);
         else if (c[0] != 0 || c[1] != 0 || c[2] != 0) {
             mixed rotation[9];
-            loadRotation(bodyRotation, body, rotation);
+            loadRotation(bodyRotation, bodyVelocity, bodyAngularMomentum, body, rotation);
             vectorToLabFrame(rotation, c, offset);
         }
         int slot = atomSlot[entry];
@@ -127,10 +149,8 @@ DEVICE void placeBodyParticles(int body, int numRotations, int haveRotation, con
 #else
         posq[slot] = make_real4(pos.x, pos.y, pos.z, stored.w);
 #endif
-        mixed4 v = velm[slot];
-        v.x = velocity[0];
-        v.y = velocity[1];
-        v.z = velocity[2];
+        mixed inverseMass = bodyCoords[entry-start].w;
+        mixed4 v = make_mixed4(velocity[0], velocity[1], velocity[2], inverseMass < 0 ? 0 : inverseMass);
         if (numRotations > 0) {
             mixed w[3], labW[3];
             crossProduct(omega, c, w);
@@ -168,12 +188,13 @@ KERNEL void placeBodyAtoms(int numBodies, GLOBAL const mixed4* RESTRICT bodyPosi
         mixed q[9], position[3], velocity[3], angularMomentum[3], inertia[3], omega[3];
         for (int i = 0; i < 3; i++)
             inertia[i] = typeParams[type*TYPE_STRIDE+TP_MASS+1+i];
-        loadRotation(bodyRotation, body, q);
+        loadRotation(bodyRotation, bodyVelocity, bodyAngularMomentum, body, q);
         loadVector(bodyPosition, body, position);
         loadVector(bodyVelocity, body, velocity);
         loadVector(bodyAngularMomentum, body, angularMomentum);
         angularVelocity(numRotations, angularMomentum, inertia, omega);
-        placeBodyParticles(body, numRotations, 1, q, position, velocity, omega, bodyImage[body], bodyRotation, bodyAtomStart,
+        placeBodyParticles(body, numRotations, 1, q, position, velocity, omega, bodyImage[body], bodyRotation, bodyVelocity,
+                bodyAngularMomentum, bodyAtomStart,
                 atomSlot, &typeCoords[info.x], atomCellOffset, posq, posqCorrection, velm, boxVecX, boxVecY, boxVecZ);
     }
 }

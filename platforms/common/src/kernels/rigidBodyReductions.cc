@@ -60,7 +60,7 @@ KERNEL void computeBodyKineticEnergies(int numBodies, mixed timeShift, GLOBAL co
         loadVector(bodyAngularMomentum, body, j);
         if (timeShift != 0) {
             mixed q[9], f[3], torque[3];
-            loadRotation(bodyRotation, body, q);
+            loadRotation(bodyRotation, bodyVelocity, bodyAngularMomentum, body, q);
             loadBodyForce(body, numRotations, q, bodyAtomStart, atomSlot, &typeCoords[info.x], force, f, torque);
             for (int i = 0; i < 3; i++) {
                 v[i] += f[i]*(timeShift/mass);

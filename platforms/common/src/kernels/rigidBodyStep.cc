@@ -313,11 +313,23 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int friction
     b.mass = tp[TP_MASS];
     for (int i = 0; i < 3; i++)
         b.inertia[i] = tp[TP_MASS+1+i];
+    // The w of velocity and angular momentum: the rotation's Q11 and Q12 (rigidBodyAtoms.cc). A body
+    // that does not rotate keeps a zero angular momentum, read only for its (fixed) rotation and
+    // written only where the rotation is.
+    const int storesRotation = (frictionClass != CLASS_SCALAR);
     loadVector(bodyPosition, body, b.position);
-    loadVector(bodyVelocity, body, b.velocity);
-    loadVector(bodyAngularMomentum, body, b.angularMomentum);
+    mixed4 velocity4 = bodyVelocity[body];
+    mixed4 angular4 = make_mixed4(0, 0, 0, 0);
+    if (numRotations > 0 || haveRotation)
+        angular4 = bodyAngularMomentum[body];
+    b.velocity[0] = velocity4.x;
+    b.velocity[1] = velocity4.y;
+    b.velocity[2] = velocity4.z;
+    b.angularMomentum[0] = (numRotations > 0 ? angular4.x : 0);
+    b.angularMomentum[1] = (numRotations > 0 ? angular4.y : 0);
+    b.angularMomentum[2] = (numRotations > 0 ? angular4.z : 0);
     if (haveRotation)
-        loadRotation(bodyRotation, body, b.q);
+        unpackRotation(bodyRotation[body], velocity4.w, angular4.w, b.q);
     if (removeMotion) {
         mixed4 v = centerOfMassVelocity[0];
         b.velocity[0] -= v.x;
@@ -367,14 +379,20 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int friction
     int4 image = (periodic ? bodyImage[body] : make_int4(0, 0, 0, 0));
     if (periodic && keepInBox(b.position, &image, boxVecX, boxVecY, boxVecZ))
         bodyImage[body] = image;
+    mixed q11 = velocity4.w, q12 = angular4.w;
+    if (storesRotation) {
+        bodyRotation[body] = make_mixed4(b.q[0], b.q[1], b.q[2], b.q[3]);
+        q11 = b.q[4];
+        q12 = b.q[5];
+    }
     storeVector(bodyPosition, body, b.position);
-    storeVector(bodyVelocity, body, b.velocity);
-    storeVector(bodyAngularMomentum, body, b.angularMomentum);
-    if (frictionClass != CLASS_SCALAR)
-        storeRotation(bodyRotation, body, b.q);
+    bodyVelocity[body] = make_mixed4(b.velocity[0], b.velocity[1], b.velocity[2], q11);
+    if (numRotations > 0 || storesRotation)
+        bodyAngularMomentum[body] = make_mixed4(b.angularMomentum[0], b.angularMomentum[1], b.angularMomentum[2], q12);
     mixed omega[3];
     angularVelocity(numRotations, b.angularMomentum, b.inertia, omega);
-    placeBodyParticles(body, numRotations, haveRotation, b.q, b.position, b.velocity, omega, image, bodyRotation, bodyAtomStart,
+    placeBodyParticles(body, numRotations, haveRotation, b.q, b.position, b.velocity, omega, image, bodyRotation, bodyVelocity,
+            bodyAngularMomentum, bodyAtomStart,
             atomSlot, bodyCoords, atomCellOffset, posq, posqCorrection, velm, boxVecX, boxVecY, boxVecZ);
 }
 
