@@ -150,7 +150,7 @@ def test_speed_vs_error_s2_errors_pair_replicas_by_start():
     10 % spread between starts, which both runs share, stands out by more than 10 standard errors of
     the paired ratio, where unpaired standard errors (about 4 %) would hide it. Rows appended with
     fewer integrators (study.py --s2-integrators) keep their own replica counts, and the verdicts
-    take the degrees of freedom of the pairs."""
+    take the degrees of freedom of the pairs; a run of a subset has rows for that subset."""
     sys.path.insert(0, str(ROOT/'benchmarks'/'speed_vs_error'))
     import report
     import study
@@ -172,6 +172,9 @@ def test_speed_vs_error_s2_errors_pair_replicas_by_start():
     assert unpaired > 0.03 > 10*exact[key+' +-']
     assert report.quantile(exact, baoab) == report.T_QUANTILE[3]
     assert '4-8 replicas in S2' in report.markdown(list(rows.values()), [])
+    # A first run of a subset (--s2-integrators, --s2-viscosities) gives rows for what it ran, only.
+    subset = study.s2_rows([r for r in records if r['integrator'] == 'ExactFlow'], [0.01, 0.1], [2.0])
+    assert [(r['viscosity (P)'], r['integrator'], r['step (fs)']) for r in subset] == [(0.1, 'ExactFlow', 0.5), (0.1, 'ExactFlow', 2.0)]
     # Values proportional to their references, start by start: the ratio is exact.
     assert np.allclose(report.paired_relative_error(1.05*starts, starts), (0.05, 0.0))
 

@@ -500,13 +500,19 @@ def main(argv=None):
                         help="add part tconf's replicas to those in --out's configurational.csv (new starts and seeds)")
     parser.add_argument('--s2-append', action='store_true',
                         help=f"add part s2's replicas to those in --out's {S2_REPLICAS} (new starts and seeds)")
+    parser.add_argument('--s2-viscosities', default='',
+                        help='the viscosities (P) part s2 runs (default all); with --s2-append, the others keep their earlier replicas')
     parser.add_argument('--s2-integrators', default=','.join(INTEGRATORS),
                         help='the integrators part s2 runs beside its references (default all); with --s2-append, the '
                              "others' rows keep their earlier replicas")
     args = parser.parse_args(argv)
+    viscosities = [0.01, 0.1, 1.0]
     args.s2_integrators = args.s2_integrators.split(',')
     if not set(args.s2_integrators) <= set(INTEGRATORS):
         parser.error(f'--s2-integrators: choose from {",".join(INTEGRATORS)}')
+    args.s2_viscosities = [float(v) for v in args.s2_viscosities.split(',')] if args.s2_viscosities else viscosities
+    if not set(args.s2_viscosities) <= set(viscosities):
+        parser.error(f'--s2-viscosities: choose from {",".join(str(v) for v in viscosities)}')
     ranks = int(os.environ.get('OMPI_COMM_WORLD_SIZE', os.environ.get('PMI_SIZE', '1')))
     if args.threads == 0:
         args.threads = max(1, (os.cpu_count() or 1)//ranks)
@@ -517,7 +523,6 @@ def main(argv=None):
     args.free_bodies, args.free_body_time, args.helicoid_ps = (10, 4, 5.0) if args.quick else (200, 100, 200.0)
     args.stability_steps = 200 if args.quick else 100000
     args.tconf_replicas = args.tconf_replicas or (2 if args.quick else 32)
-    viscosities = [0.01, 0.1, 1.0]
     water_steps = [1.0, 2.0, 4.0]
     free_steps = [1.0, 2.0, 4.0, 8.0, 16.0]
     parts = set(args.parts.split(','))
@@ -542,13 +547,13 @@ def main(argv=None):
         # Seeded by the first replica: appended replicas start from configurations of their own.
         args.starts = starts_per_rank(args, n, ranks, 5+first, None, 'S2 starting configurations (0.01 P)')
         reference_tasks = [{'viscosity': eta, 'integrator': 'ExactFlow', 'step_fs': 0.5, 'seed': 101+first+r, 'replica': r, 'args': args}
-                           for eta in viscosities for r in range(n)]
+                           for eta in args.s2_viscosities for r in range(n)]
         saved = args.production_ps
         args.production_ps = args.reference_ps
         references = distribute(run_water, reference_tasks, 'S2 reference runs (0.5 fs)')
         args.production_ps = saved
         tasks = [{'viscosity': eta, 'integrator': name, 'step_fs': h, 'seed': 7+first+r, 'replica': r, 'args': args}
-                 for eta in viscosities for name in args.s2_integrators for h in water_steps for r in range(n)]
+                 for eta in args.s2_viscosities for name in args.s2_integrators for h in water_steps for r in range(n)]
         results = distribute(run_water, tasks, 'S2 rigid water')
         if results is not None:
             records = earlier+[{'reference': reference, 'viscosity': t['viscosity'], 'integrator': t['integrator'],
@@ -603,6 +608,8 @@ def s2_rows(records, viscosities, water_steps):
     pooled = combine([r for eta in viscosities for r in references[eta]])
     rows = []
     for eta in viscosities:
+        if not references[eta]:
+            continue  # a viscosity none of the runs gathered (--s2-viscosities)
         reference = combine(references[eta])
         rows.append(row('S2 water (reference)', eta, {'integrator': 'ExactFlow', 'step_fs': 0.5}, reference, {}))
         exact = {'T translational (K)': TEMPERATURE, 'T rotational (K)': TEMPERATURE}  # for every integrator
@@ -611,6 +618,8 @@ def s2_rows(records, viscosities, water_steps):
         truth.update(exact)
         for name in INTEGRATORS:
             for h in water_steps:
+                if not results(eta, name, h):
+                    continue  # an integrator none of the runs ran (--s2-integrators)
                 measured = combine(results(eta, name, h))
                 error = errors(measured, truth)
                 paired, count = paired_dynamical_errors(records, eta, name, h) if measured.get('status') == 'ok' else ({}, 0)
