@@ -643,7 +643,8 @@ def paired_dynamical_errors(records, viscosity, integrator, step_fs):
     common = sorted(set(measured) & set(references))
     e = {}
     for key in report.DYNAMICAL:
-        if len(common) < 2 or not all(np.isscalar(measured[r].get(key)) and np.isfinite(measured[r][key]) for r in common):
+        if len(common) < 2 or not all(np.isscalar(run[r].get(key)) and np.isfinite(run[r][key]) for run in (measured, references)
+                                      for r in common):
             continue
         error, spread = report.paired_relative_error([measured[r][key] for r in common], [references[r][key] for r in common])
         e[key], e[key+' +-'] = abs(error), spread
