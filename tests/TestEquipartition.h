@@ -122,5 +122,5 @@ TEST_P(Equipartition, FreeCoupledBodyAtEveryFriction) {
 }
 
 INSTANTIATE_TEST_SUITE_P(OnPlatform, Equipartition, testing::ValuesIn(platformConfigs()), PlatformConfigName());
-// Single and mixed precision have code paths of their own (float arithmetic, re-orthonormalised rotations).
+// Single and mixed precision have code paths of their own (float arithmetic, rotations made orthonormal on every read).
 INSTANTIATE_TEST_SUITE_P(LowerPrecision, Equipartition, testing::ValuesIn(lowerPrecisionConfigs()), PlatformConfigName());

@@ -10,6 +10,7 @@
 #include "openmm/NonbondedForce.h"
 #include "openmm/VirtualSite.h"
 #include "openmm/common/ComputeContext.h"
+#include "openmm/common/ContextSelector.h"
 #include "openmm/internal/ContextImpl.h"
 #include <gtest/gtest.h>
 
@@ -24,6 +25,8 @@ namespace {
 
 /** velm.w from a ComputeContext's array, undoing OpenMM's reordering of atoms. */
 std::vector<double> inverseMassesIn(ComputeContext& cc) {
+    // CUDA downloads only in the context's own CUDA context, which the test's thread has not made current.
+    ContextSelector selector(cc);
     std::vector<double> w(cc.getNumAtoms());
     const std::vector<int>& particleAtSlot = cc.getAtomIndex();
     if (cc.getUseDoublePrecision() || cc.getUseMixedPrecision()) {

@@ -19,8 +19,8 @@ namespace {
 
 /** Arguments of the step kernels set at every step (the seed: when a checkpoint is loaded; the others are fixed). */
 enum StepArgument {
-    StepFirst = 0, StepLast = 1, StepFrictionless = 2, StepSize = 3, StepRemoveMotion = 4, StepRenormalize = 5,
-    StepRandomSeed = 18, StepRandomStep = 19, StepRandomPerBody = 20, StepBox = 23
+    StepFirst = 0, StepLast = 1, StepFrictionless = 2, StepSize = 3, StepRemoveMotion = 4,
+    StepRandomSeed = 17, StepRandomStep = 18, StepRandomPerBody = 19, StepBox = 22
 };
 
 /** The first periodic box vector argument of placeBodyAtoms. */
@@ -261,7 +261,7 @@ void CommonIntegrateRigidLangevinStepKernel::setKernelArguments() {
 
 void CommonIntegrateRigidLangevinStepKernel::setStepArguments(vector<ComputeKernel>& kernels) {
     for (ComputeKernel& kernel : kernels) {
-        for (int i = 0; i < 6; i++)
+        for (int i = 0; i < 5; i++)
             kernel->addArg();
         kernel->addArg(bodyPosition);
         kernel->addArg(bodyVelocity);
@@ -465,7 +465,6 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
             setMixedArg(centerOfMassKernel, 1, 1.0/model->getTotalMass(), mixedIsDouble);
             centerOfMassKernel->execute(ReductionGroupSize, ReductionGroupSize);
         }
-        bool renormalize = (!mixedIsDouble && cc.getStepCount()%OrthonormalizationInterval == 0);
         vector<ComputeKernel>& kernels = stepKernelsFor(scheme);
         if (periodic)
             setBoxArguments();
@@ -480,7 +479,6 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
             kernel->setArg(StepFrictionless, frictionless ? 1 : 0);
             setMixedArg(kernel, StepSize, h, mixedIsDouble);
             kernel->setArg(StepRemoveMotion, removeMotion ? 1 : 0);
-            kernel->setArg(StepRenormalize, renormalize ? 1 : 0);
             kernel->setArg(StepRandomStep, randomStep);
             kernel->setArg(StepRandomPerBody, perBody);
             kernel->execute(count);

@@ -23,17 +23,15 @@ namespace RigidLangevinPlugin {
  * (rigidBodyRandom.cc) keyed by the seed, with the body, the draw and randomStep as the counter: the
  * generator's state is the seed and randomStep, which the integrator's checkpoint holds.
  *
- * Body states are kept in the platform's "mixed" precision (double in mixed and double precision).
- * In single precision the rotation matrices are re-orthonormalised every OrthonormalizationInterval
- * steps. When OpenMM reorders atoms (for its neighbour lists), a reorder listener updates where each
+ * Body states are kept in the platform's "mixed" precision (double in mixed and double precision);
+ * rotations are made orthonormal whenever read (rigidBodyAtoms.cc), so that rounding cannot
+ * accumulate in single precision. When OpenMM reorders atoms (for its neighbour lists), a reorder listener updates where each
  * body's particles are stored and their periodic cell offsets.
  */
 class CommonIntegrateRigidLangevinStepKernel : public RigidLangevinStepKernelBase {
 public:
     CommonIntegrateRigidLangevinStepKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc);
     void initialize(const OpenMM::System& system, const RigidLangevinIntegrator& integrator);
-    /** Steps between re-orthonormalisations of the rotation matrices in single precision. */
-    static const int OrthonormalizationInterval = 10;
 protected:
     void initializeBodies(OpenMM::ContextImpl& context, const RigidBodyModel& model);
     void uploadBodyStates(OpenMM::ContextImpl& context, const std::vector<BodyState>& states);

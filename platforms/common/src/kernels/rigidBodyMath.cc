@@ -119,21 +119,3 @@ DEVICE void freeRotorRotation(mixed* q, int numRotations, const mixed* inertia, 
         rotateAboutBodyAxis(q, 0, halfStep*vectors[0]/inertia[0], vectors, numVectors);
     }
 }
-
-/**
- * One Newton step towards the nearest orthonormal matrix, Q -> Q + (1 - Q Q^T) Q/2. Its error
- * squares each time, so applied every few steps it holds Q orthonormal to rounding in single
- * precision, where rotations alone let the error grow as a random walk of 1e-7 per step.
- */
-DEVICE void orthonormalize(mixed* q) {
-    mixed e[9];
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            e[3*i+j] = (i == j ? 1 : 0)-(q[3*i]*q[3*j]+q[3*i+1]*q[3*j+1]+q[3*i+2]*q[3*j+2]);
-    mixed result[9];
-    for (int i = 0; i < 3; i++)
-        for (int k = 0; k < 3; k++)
-            result[3*i+k] = q[3*i+k]+0.5f*(e[3*i]*q[k]+e[3*i+1]*q[3+k]+e[3*i+2]*q[6+k]);
-    for (int i = 0; i < 9; i++)
-        q[i] = result[i];
-}

@@ -296,7 +296,7 @@ DEVICE void scalarFlow(Body* b, GLOBAL const mixed* RESTRICT tp, int scheme, mix
  * Placing the particles here rather than in a pass of its own saves reading the body state and the
  * particle entries a second time: the step is bound by memory traffic.
  */
-DEVICE void stepBody(int body, int frictionClass, int numRotations, int frictionless, mixed h, int removeMotion, int renormalize,
+DEVICE void stepBody(int body, int frictionClass, int numRotations, int frictionless, mixed h, int removeMotion,
         GLOBAL mixed4* RESTRICT bodyPosition, GLOBAL mixed4* RESTRICT bodyVelocity, GLOBAL mixed4* RESTRICT bodyAngularMomentum,
         GLOBAL mixed4* RESTRICT bodyRotation, GLOBAL const int* RESTRICT bodyType, GLOBAL const int* RESTRICT bodyAtomStart,
         GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT typeCoords, GLOBAL const int4* RESTRICT atomCellOffset,
@@ -373,8 +373,6 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int friction
             driftBody(&b, numRotations, 0.5f*h);
         }
     }
-    if (renormalize && frictionClass != CLASS_SCALAR)
-        orthonormalize(b.q);
     // Without a periodic box a body never leaves it: its image stays zero, and is not read.
     int4 image = (periodic ? bodyImage[body] : make_int4(0, 0, 0, 0));
     if (periodic && keepInBox(b.position, &image, boxVecX, boxVecY, boxVecZ))
@@ -397,7 +395,7 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int friction
 }
 
 #define STEP_KERNEL(name, frictionClass, numRotations) \
-KERNEL void name(int first, int last, int frictionless, mixed h, int removeMotion, int renormalize, \
+KERNEL void name(int first, int last, int frictionless, mixed h, int removeMotion, \
         GLOBAL mixed4* RESTRICT bodyPosition, GLOBAL mixed4* RESTRICT bodyVelocity, GLOBAL mixed4* RESTRICT bodyAngularMomentum, \
         GLOBAL mixed4* RESTRICT bodyRotation, GLOBAL const int* RESTRICT bodyType, GLOBAL const int* RESTRICT bodyAtomStart, \
         GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT typeCoords, GLOBAL const int4* RESTRICT atomCellOffset, \
@@ -406,7 +404,7 @@ KERNEL void name(int first, int last, int frictionless, mixed h, int removeMotio
         int periodic, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ, GLOBAL int4* RESTRICT bodyImage, \
         GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, GLOBAL mixed4* RESTRICT velm) { \
     for (int body = first+GLOBAL_ID; body < last; body += GLOBAL_SIZE) \
-        stepBody(body, frictionClass, numRotations, frictionless, h, removeMotion, renormalize, bodyPosition, bodyVelocity, \
+        stepBody(body, frictionClass, numRotations, frictionless, h, removeMotion, bodyPosition, bodyVelocity, \
                 bodyAngularMomentum, bodyRotation, bodyType, bodyAtomStart, atomSlot, typeCoords, atomCellOffset, force, typeParams, \
                 typeInfo, seed, randomStep, randomPerBody, centerOfMassVelocity, periodic, boxVecX, boxVecY, \
                 boxVecZ, bodyImage, posq, posqCorrection, velm); \
