@@ -15,9 +15,10 @@ particle's slot in OpenMM's reordered arrays, and its position out (posq, and po
 mixed precision); random numbers generated where they are used; particle velocities (needed only
 when a State asks for them) are listed apart.
 
-Measured: the H100's per-kernel DRAM bytes (Nsight Compute, 1e6 water-shaped bodies; PROFILES
-below: before the kernels were rewritten, after each step of the rewrite) and the time per body-step of integrator_cost.py
-(results/integrator_cost.csv) divided into the modelled bytes: the bandwidth a kernel achieves.
+Measured: per-kernel DRAM bytes on an H100 and an H200 (Nsight Compute, 1e6 water-shaped bodies;
+PROFILES below: on the H100 before the kernels were rewritten and after each step of the rewrite, on
+the H200 the kernels of b9f060f and today's) and the time per body-step of integrator_cost.py (results/*/integrator_cost.csv)
+divided into the modelled bytes: the bandwidth a kernel achieves.
 
     python benchmarks/platforms/traffic.py       # writes results/traffic.md and results/traffic.csv
 
@@ -48,13 +49,14 @@ def random_float4(n):
     return math.ceil((2 if rotations(n) == 0 else 4)*(3+rotations(n))/4)
 
 
-def _particle_placement(n, precision, reads_velm):
+def _particle_placement(n, precision, reads_velm, reads_cell_offsets):
     """Per particle, what placing it moves beyond what the force gather reads: its periodic cell
-    offset, posq in (for its charge) and out, posqCorrection out in mixed precision, velm out, and
-    velm in where the kernel reads the inverse mass back from it (the kernels up to the profiled
+    offset (the kernels up to those profiled on the H200 read it in any box; later ones only in a
+    periodic box), posq in (for its charge) and out, posqCorrection out in mixed precision, velm out,
+    and velm in where the kernel reads the inverse mass back from it (the kernels up to the profiled
     fused ones; today's take it from the type's coordinates)."""
     m, r = PRECISIONS[precision]
-    return n*(INT4+2*4*r+(4*r if precision == 'mixed' else 0)+(2 if reads_velm else 1)*4*m)
+    return n*((INT4 if reads_cell_offsets else 0)+2*4*r+(4*r if precision == 'mixed' else 0)+(2 if reads_velm else 1)*4*m)
 
 
 def _body_state(n, precision, points_move_angular_momentum, rotation_mixed4):
@@ -77,8 +79,14 @@ def common_current(n, precision, periodic=False):
     step = (INT+INT+(INT4 if periodic else 0)         # bodyType, bodyAtomStart, bodyImage
             + _body_state(n, precision, points_move_angular_momentum=False, rotation_mixed4=1)
             + n*(INT+FORCE)                           # atomSlot, force
-            + _particle_placement(n, precision, reads_velm=False))
+            + _particle_placement(n, precision, reads_velm=False, reads_cell_offsets=periodic))
     return {'step': step}
+
+
+def common_h200(n, precision):
+    """The kernels as profiled on the H200 (commit b9f060f): today's, but reading the particles' cell
+    offsets in any box."""
+    return {'step': common_current(n, precision)['step']+n*INT4}
 
 
 def common_fused(n, precision):
@@ -90,7 +98,7 @@ def common_fused(n, precision):
     random = 16*random_float4(n)
     step = (INT+INT+INT4+_body_state(n, precision, points_move_angular_momentum=True, rotation_mixed4=3)
             + n*(INT+FORCE+4*m)                       # atomSlot, force, atomCoords
-            + _particle_placement(n, precision, reads_velm=True)+random)
+            + _particle_placement(n, precision, reads_velm=True, reads_cell_offsets=True)+random)
     return {'generateRandomNumbers': random, 'step': step}
 
 
@@ -103,7 +111,7 @@ def common_before(n, precision):
     step = INT+INT+_body_state(n, precision, points_move_angular_momentum=True, rotation_mixed4=3)+n*(INT+4*m+FORCE)+random
     place = (INT+12*m+4*m+4*m+(4*m if rotating else 0)+INT4  # per body: type, rotation, position, velocity, angular momentum, image
              + n*(INT+INT+4*m)                        # per particle: atomBody, atomSlot, atomCoords
-             + _particle_placement(n, precision, reads_velm=True))
+             + _particle_placement(n, precision, reads_velm=True, reads_cell_offsets=True))
     return {'generateRandomNumbers': random, 'step': step, 'placeBodyAtoms': place}
 
 
@@ -138,12 +146,12 @@ def read_csv(name):
         return list(csv.DictReader(f))
 
 
-def measured_time(platform, precision, bodies=1000000):
-    """us per body-step of the integrator alone at 1e6 water-shaped bodies (integrator_cost.py)."""
-    for directory in ('', 'gpu_h100'):
-        for row in read_csv(os.path.join(directory, 'integrator_cost.csv')):
-            if row['platform'] == platform and row['precision'] == precision and row['bodies'] == str(bodies):
-                return float(row['us_per_body_step'])
+def measured_time(directory, platform, precision, bodies=1000000):
+    """us per body-step of the integrator alone at 1e6 water-shaped bodies (integrator_cost.py), as
+    measured on the machine whose results are in results/directory ('' for the development machine)."""
+    for row in read_csv(os.path.join(directory, 'integrator_cost.csv')):
+        if row['platform'] == platform and row['precision'] == precision and row['bodies'] == str(bodies):
+            return float(row['us_per_body_step'])
     return None
 
 
@@ -161,17 +169,28 @@ def host_bandwidth(megabytes=400, repeats=5):
     return 2*a.nbytes/best*1e-9
 
 
-def profile_rows(name):
-    """Per-kernel DRAM bytes per body-step of an H100 profile (gpu_bandwidth.py), by kernel name."""
-    return {row['kernel']: row for row in read_csv(os.path.join('gpu_h100', name))}
+def profile_rows(path):
+    """Per-kernel DRAM bytes per body-step of a GPU profile (gpu_bandwidth.py), by kernel name."""
+    return {row['kernel']: row for row in read_csv(path)}
 
 
-# The H100 profiles (CUDA, 1e6 three-particle bodies): before any change, after the step kernels kept
-# their arrays in registers (97e1b74), and with the step and the placement fused into one pass.
-PROFILES = [('before (61978fa)', 'gpu_bandwidth_before.csv', 'mixed'),
-            ('registers (97e1b74)', 'gpu_bandwidth_registers.csv', 'mixed'),
-            ('fused, mixed', 'gpu_bandwidth.csv', 'mixed'),
-            ('fused, single', 'gpu_bandwidth_single.csv', 'single')]
+# The GPU profiles (CUDA, 1e6 three-particle bodies), each with the model of the kernels profiled: on
+# the H100 before any change, after the step kernels kept their arrays in registers (97e1b74), and
+# with the step and the placement fused into one pass (3ed7dd0); on the H200 those of b9f060f (cell
+# offsets read in any box) and today's.
+PROFILES = [('H100, before (61978fa)', 'gpu_h100/gpu_bandwidth_before.csv', 'mixed', common_before),
+            ('H100, registers (97e1b74)', 'gpu_h100/gpu_bandwidth_registers.csv', 'mixed', common_before),
+            ('H100, fused (3ed7dd0), mixed', 'gpu_h100/gpu_bandwidth.csv', 'mixed', common_fused),
+            ('H100, fused (3ed7dd0), single', 'gpu_h100/gpu_bandwidth_single.csv', 'single', common_fused),
+            ('H200, b9f060f, mixed', 'gpu_h200/gpu_bandwidth_b9f060f.csv', 'mixed', common_h200),
+            ('H200, b9f060f, single', 'gpu_h200/gpu_bandwidth_single_b9f060f.csv', 'single', common_h200),
+            ('H200, today, mixed', 'gpu_h200/gpu_bandwidth.csv', 'mixed', common_current),
+            ('H200, today, single', 'gpu_h200/gpu_bandwidth_single.csv', 'single', common_current)]
+
+# Where each machine's integrator_cost.py times are, and the model of the kernels they timed.
+TIMED = [('this machine (CPU, PoCL; kernels of 3ed7dd0)', '', [('CPU', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')], common_fused),
+         ('H100 (kernels of 3ed7dd0)', 'gpu_h100', [('CUDA', 'single'), ('CUDA', 'mixed')], common_fused),
+         ('H200 (kernels of b9f060f)', 'gpu_h200', [('CUDA', 'single'), ('CUDA', 'mixed')], common_h200)]
 
 
 def main(argv=None):
@@ -185,17 +204,20 @@ def main(argv=None):
             before = sum(common_before(n, precision).values())
             minimum, velocities = common_minimum(n, precision)
             total = sum(current.values())
+            periodic = sum(common_current(n, precision, periodic=True).values())
             rows.append({'platform': 'OpenCL/CUDA', 'precision': precision, 'particles': n, 'minimum': minimum,
                          'particle velocities': velocities, 'before': before, 'current': total,
-                         'current/minimum': total/minimum, 'current/(minimum+velocities)': total/(minimum+velocities)})
+                         'current/minimum': total/minimum, 'current/(minimum+velocities)': total/(minimum+velocities),
+                         'current, periodic': periodic, 'current, periodic/minimum': periodic/minimum})
     for n in PARTICLES:
         minimum, velocities = cpu_minimum(n)
         current = cpu_current(n)
         rows.append({'platform': 'CPU', 'precision': 'double', 'particles': n, 'minimum': minimum, 'particle velocities': velocities,
                      'before': current, 'current': current, 'current/minimum': current/minimum,
-                     'current/(minimum+velocities)': current/(minimum+velocities)})
+                     'current/(minimum+velocities)': current/(minimum+velocities),
+                     'current, periodic': current, 'current, periodic/minimum': current/minimum})
     fields = ['platform', 'precision', 'particles', 'minimum', 'particle velocities', 'before', 'current', 'current/minimum',
-              'current/(minimum+velocities)']
+              'current/(minimum+velocities)', 'current, periodic', 'current, periodic/minimum']
     with open(os.path.join(RESULTS, 'traffic.csv'), 'w', newline='') as f:
         writer = csv.DictWriter(f, fieldnames=fields)
         writer.writeheader()
@@ -209,47 +231,52 @@ def main(argv=None):
              'its particles and makes its random numbers; body-frame coordinates per type, with the inverse masses it writes to '
              'velm.w; the rotation\'s first two rows in one mixed4 and the w of velocity and angular momentum; no angular '
              'momentum for a body that does not rotate; no periodic box, as in '
-             'integrator_cost.py: a periodic box adds 16 bytes, the body\'s image).', '',
-             '| platform | precision | particles | minimum | + particle velocities | before | today | today / minimum | today / (minimum + velocities) |',
-             '|---|---|---|---|---|---|---|---|---|']
+             'integrator_cost.py); "today, periodic box": the same in a periodic box, where a step also reads the body\'s '
+             'image (16 bytes) and each particle\'s cell offset (16 bytes).', '',
+             '| platform | precision | particles | minimum | + particle velocities | before | today | today / minimum | '
+             'today / (minimum + velocities) | today, periodic box | today, periodic box / minimum |',
+             '|---|---|---|---|---|---|---|---|---|---|---|']
     for r in rows:
         lines.append(f"| {r['platform']} | {r['precision']} | {r['particles']} | {r['minimum']} | {r['particle velocities']} | "
                      f"{r['before']} | {r['current']} | "
-                     f"{r['current/minimum']:.2f} | {r['current/(minimum+velocities)']:.2f} |")
+                     f"{r['current/minimum']:.2f} | {r['current/(minimum+velocities)']:.2f} | "
+                     f"{r['current, periodic']} | {r['current, periodic/minimum']:.2f} |")
 
-    measured = [(label, profile_rows(name), precision) for label, name, precision in PROFILES]
+    measured = [(label, profile_rows(path), precision, kernels) for label, path, precision, kernels in PROFILES]
     measured = [m for m in measured if m[1]]
     if measured:
-        lines += ['', '## Measured on an H100 (CUDA, 1e6 three-particle bodies, Nsight Compute DRAM bytes per body-step)', '',
+        lines += ['', '## Measured on GPUs (CUDA, 1e6 three-particle bodies, Nsight Compute DRAM bytes per body-step)', '',
+                  'clearTwoBuffers is OpenMM\'s clearing of the force buffers, which every integrator\'s step has; it is not modelled.', '',
                   '| kernels | kernel | model | measured | measured / model | DRAM % of peak | us per step |', '|---|---|---|---|---|---|---|']
-        for label, profile, precision in measured:
-            model = (common_before if label.startswith('before') or label.startswith('registers') else common_fused)(3, precision)
+        for label, profile, precision, kernels in measured:
+            model = kernels(3, precision)
             for kernel, row in profile.items():
                 key = 'step' if kernel.startswith('step') else kernel
                 bytes_ = float(row['bytes_per_body_step'])
                 ratio = f'{bytes_/model[key]:.2f}' if key in model else ''
                 lines.append(f"| {label} | {kernel} | {model.get(key, '')} | {bytes_:.0f} | {ratio} | {row['dram_pct_of_peak']} | {row['us_per_step']} |")
         lines.append('')
-        for label, profile, precision in measured:
+        for label, profile, precision, kernels in measured:
             minimum, velocities = common_minimum(3, precision)
             whole = float(profile['all kernels of a step (profiled)']['bytes_per_body_step'])
+            step = sum(float(row['bytes_per_body_step']) for kernel, row in profile.items() if kernel.startswith('step'))
             wall = profile['whole step, unprofiled wall time']
-            lines.append(f'- {label}: the whole step moves {whole:.0f} bytes per body-step, {whole/minimum:.2f} times the minimum '
+            lines.append(f'- {label}: the step kernel moves {step:.0f} bytes per body-step, {step/minimum:.2f} times the minimum; '
+                         f'the whole step {whole:.0f}, {whole/minimum:.2f} times the minimum '
                          f'({minimum}), {whole/(minimum+velocities):.2f} times with particle velocities ({minimum+velocities}); '
                          f'{wall["us_per_step"]} us per step, {wall["dram_pct_of_peak"]}% of peak DRAM bandwidth.')
     peak = args.host_bandwidth or host_bandwidth()
-    lines += ['', '## Achieved bandwidth (model bytes / measured time per body-step, 1e6 bodies, integrator_cost.py, kernels of 3ed7dd0)', '',
+    lines += ['', '## Achieved bandwidth (model bytes / measured time per body-step, 1e6 bodies, integrator_cost.py)', '',
               f'This machine copies memory at {peak:.1f} GB/s (one thread, read and write counted): the CPU and PoCL rows '
-              'are far below it, so there the step is bound by arithmetic, not by memory.', '',
-              '| platform | precision | us per body-step | model bytes | GB/s |', '|---|---|---|---|---|']
-    # The times were measured with the fused kernels of commit 3ed7dd0: their bytes.
-    for platform, precision, model in [('CPU', 'double', cpu_current(3)), ('OpenCL', 'single', sum(common_fused(3, 'single').values())),
-                                       ('OpenCL', 'double', sum(common_fused(3, 'double').values())),
-                                       ('CUDA', 'single', sum(common_fused(3, 'single').values())),
-                                       ('CUDA', 'mixed', sum(common_fused(3, 'mixed').values()))]:
-        t = measured_time(platform, precision)
-        if t is not None:
-            lines.append(f'| {platform} | {precision} | {t:.4g} | {model} | {model/t*1e-3:.3g} |')
+              'are far below it, so there the step is bound by arithmetic, not by memory. Each time is one timed block '
+              '(on the H200, four repeats of the 1e6 rows scattered by 1-3%: gpu_h200/integrator_cost_1e6_repeats.csv).', '',
+              '| machine | platform | precision | us per body-step | model bytes | GB/s |', '|---|---|---|---|---|---|']
+    for machine, directory, runs, kernels in TIMED:
+        for platform, precision in runs:
+            t = measured_time(directory, platform, precision)
+            model = cpu_current(3) if platform == 'CPU' else sum(kernels(3, precision).values())
+            if t is not None:
+                lines.append(f'| {machine} | {platform} | {precision} | {t:.4g} | {model} | {model/t*1e-3:.3g} |')
     text = '\n'.join(lines)+'\n'
     with open(os.path.join(RESULTS, 'traffic.md'), 'w') as f:
         f.write(text)

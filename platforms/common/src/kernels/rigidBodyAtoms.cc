@@ -118,7 +118,7 @@ DEVICE bool keepInBox(mixed* r, int4* image, mixed4 boxVecX, mixed4 boxVecY, mix
  * centre (a massless site of a point body), from the body state as stored. bodyCoords: the body's
  * type's coordinates.
  */
-DEVICE void placeBodyParticles(int body, int numRotations, int haveRotation, const mixed* q, const mixed* position,
+DEVICE void placeBodyParticles(int body, int numRotations, int haveRotation, int periodic, const mixed* q, const mixed* position,
         const mixed* velocity, const mixed* omega, int4 image, GLOBAL const mixed4* RESTRICT bodyRotation,
         GLOBAL const mixed4* RESTRICT bodyVelocity, GLOBAL const mixed4* RESTRICT bodyAngularMomentum,
         GLOBAL const int* RESTRICT bodyAtomStart, GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT bodyCoords,
@@ -136,7 +136,8 @@ DEVICE void placeBodyParticles(int body, int numRotations, int haveRotation, con
             vectorToLabFrame(rotation, c, offset);
         }
         int slot = atomSlot[entry];
-        int4 cell = atomCellOffset[entry];
+        // Without a periodic box OpenMM never wraps atoms: their cell offsets are zero, and are not read.
+        int4 cell = (periodic ? atomCellOffset[entry] : make_int4(0, 0, 0, 0));
         cell = make_int4(cell.x+image.x, cell.y+image.y, cell.z+image.z, 0);
         mixed3 shift = make_mixed3(cell.x*boxVecX.x+cell.y*boxVecY.x+cell.z*boxVecZ.x,
                                    cell.y*boxVecY.y+cell.z*boxVecZ.y,
@@ -193,7 +194,7 @@ KERNEL void placeBodyAtoms(int numBodies, GLOBAL const mixed4* RESTRICT bodyPosi
         loadVector(bodyVelocity, body, velocity);
         loadVector(bodyAngularMomentum, body, angularMomentum);
         angularVelocity(numRotations, angularMomentum, inertia, omega);
-        placeBodyParticles(body, numRotations, 1, q, position, velocity, omega, bodyImage[body], bodyRotation, bodyVelocity,
+        placeBodyParticles(body, numRotations, 1, 1, q, position, velocity, omega, bodyImage[body], bodyRotation, bodyVelocity,
                 bodyAngularMomentum, bodyAtomStart,
                 atomSlot, &typeCoords[info.x], atomCellOffset, posq, posqCorrection, velm, boxVecX, boxVecY, boxVecZ);
     }

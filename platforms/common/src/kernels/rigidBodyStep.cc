@@ -389,7 +389,7 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int friction
         bodyAngularMomentum[body] = make_mixed4(b.angularMomentum[0], b.angularMomentum[1], b.angularMomentum[2], q12);
     mixed omega[3];
     angularVelocity(numRotations, b.angularMomentum, b.inertia, omega);
-    placeBodyParticles(body, numRotations, haveRotation, b.q, b.position, b.velocity, omega, image, bodyRotation, bodyVelocity,
+    placeBodyParticles(body, numRotations, haveRotation, periodic, b.q, b.position, b.velocity, omega, image, bodyRotation, bodyVelocity,
             bodyAngularMomentum, bodyAtomStart,
             atomSlot, bodyCoords, atomCellOffset, posq, posqCorrection, velm, boxVecX, boxVecY, boxVecZ);
 }
