@@ -25,8 +25,8 @@ namespace RigidLangevinPlugin {
  *
  * Body states are kept in the platform's "mixed" precision (double in mixed and double precision);
  * rotations are made orthonormal whenever read (rigidBodyAtoms.cc), so that rounding cannot
- * accumulate in single precision. When OpenMM reorders atoms (for its neighbour lists), a reorder listener updates where each
- * body's particles are stored and their periodic cell offsets.
+ * accumulate in single precision. When OpenMM reorders atoms (for its neighbour lists), a reorder
+ * listener updates where each body's particles are stored and their periodic cell offsets.
  */
 class CommonIntegrateRigidLangevinStepKernel : public RigidLangevinStepKernelBase {
 public:

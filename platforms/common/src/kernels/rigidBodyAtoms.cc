@@ -116,7 +116,8 @@ DEVICE bool keepInBox(mixed* r, int4* image, mixed4 boxVecX, mixed4 boxVecY, mix
  * the step is bound by memory traffic. q holds the rotation if haveRotation; a
  * body that does not rotate may skip loading it, and it is read here only for a particle off the
  * centre (a massless site of a point body), from the body state as stored. bodyCoords: the body's
- * type's coordinates.
+ * type's coordinates. periodic: whether the System has a periodic box (without one the cell offsets
+ * are all zero and are not read).
  */
 DEVICE void placeBodyParticles(int body, int numRotations, int haveRotation, int periodic, const mixed* q, const mixed* position,
         const mixed* velocity, const mixed* omega, int4 image, GLOBAL const mixed4* RESTRICT bodyRotation,
