@@ -2,9 +2,10 @@
  * Single precision on GPU platforms: rotation matrices are stored in float, and each rotation
  * rounds them off orthonormality by ~1e-7; over a million steps that would accumulate to 1e-4 or
  * more (a random walk, or a drift where rounding is biased), deforming bodies by as much. The
- * common kernels make the rotation orthonormal whenever they read it. Four fast-spinning bodies (three-moment and
- * linear), kept near the origin so that float positions resolve 1e-7 nm, run 1e6 steps without
- * friction; the distances inside each body must stay within 1e-5 (relative) of their start.
+ * common kernels make the rotation orthonormal whenever they read it. Four fast-spinning bodies
+ * (three-moment and linear), kept near the origin so that float positions resolve 1e-7 nm, run 1e6
+ * steps without friction; the distances inside each body must stay within 1e-5 (relative) of their
+ * start.
  *
  * Body centres are kept in the periodic box (with a count of the boxes left), so that a body that
  * has diffused far is resolved as well as at the start: bodies crossing a 3 nm box 300 times must

@@ -454,14 +454,15 @@ def combine(results):
         if key == 'status' or key.endswith(' +-'):
             continue
         values = [r[key] for r in results]
-        combined[key] = np.mean(values, axis=0) if not np.isscalar(value) else float(np.mean(values))
         # Speed from the least disturbed replica: replicas appended on a busy machine run slower.
         if key == 'ns/day':
             combined[key] = float(np.max(values))
         elif key == 's per body-step':
             combined[key] = float(np.min(values))
-        if key not in ('ns/day', 's per body-step') and len(values) > 1:
-            combined[key+' +-'] = standard_error(values)
+        else:
+            combined[key] = np.mean(values, axis=0) if not np.isscalar(value) else float(np.mean(values))
+            if len(values) > 1:
+                combined[key+' +-'] = standard_error(values)
     return combined
 
 
