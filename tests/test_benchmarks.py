@@ -179,6 +179,39 @@ def test_speed_vs_error_s2_errors_pair_replicas_by_start():
     assert np.allclose(report.paired_relative_error(1.05*starts, starts), (0.05, 0.0))
 
 
+def test_speed_vs_error_s2_rows_append_without_references():
+    """study.py --s2-append --s2-rows: replicas of the named rows only, without references. The rows'
+    standard errors take every replica; their paired errors keep the pairs that have a reference;
+    a row that is not one of S2's is refused, naming the form."""
+    sys.path.insert(0, str(ROOT/'benchmarks'/'speed_vs_error'))
+    import study
+    rng = np.random.default_rng(7)
+    records = []
+    for reference, integrator, step, replicas in [(True, 'ExactFlow', 0.5, 4), (False, 'BAOAB', 1.0, 10)]:
+        for r in range(replicas):
+            records.append({'reference': reference, 'viscosity': 0.01, 'integrator': integrator, 'step (fs)': step, 'replica': r,
+                            'result': {'status': 'ok', 'D translational (nm^2/ps)': 1.0+0.1*rng.standard_normal(), 'ns/day': 10.0}})
+    baoab = [r for r in study.s2_rows(records, [0.01], [1.0]) if r['integrator'] == 'BAOAB'][0]
+    assert baoab['replicas'] == 10 and baoab['paired replicas'] == 4
+    d = [r['result']['D translational (nm^2/ps)'] for r in records if not r['reference']]
+    assert np.isclose(baoab['D translational (nm^2/ps) +-'], np.std(d, ddof=1)/np.sqrt(10))
+    parser = study.argparse.ArgumentParser()
+    assert study.parse_s2_row('0.01:LangevinMiddle+SETTLE:4', [0.01, 0.1], parser) == (0.01, 'LangevinMiddle+SETTLE', 4.0)
+    for bad in ['0.01:BAOAB:3', '0.5:BAOAB:1', '0.01:Verlet:1', '0.01:BAOAB', 'x:BAOAB:1']:
+        try:
+            study.main(['--parts', 's2', '--s2-append', '--s2-rows', bad])
+        except SystemExit as e:
+            assert e.code == 2
+        else:
+            raise AssertionError(f'--s2-rows {bad} was accepted')
+    try:
+        study.main(['--parts', 's2', '--s2-rows', '0.01:BAOAB:1'])
+    except SystemExit as e:
+        assert e.code == 2
+    else:
+        raise AssertionError('--s2-rows was accepted without --s2-append')
+
+
 def test_traffic_model_bounds_and_matches_the_gpu_profiles():
     """benchmarks/platforms/traffic.py: every kernel moves at least the minimum, and the model agrees
     with the H100's and H200's measured DRAM bytes kernel by kernel: within 15 % the placement kernel and the

@@ -25,6 +25,7 @@ against its exact value and against 1 fs runs from the same starts.
     mpirun -np 2 python benchmarks/speed_vs_error/study.py       # the same over 2 ranks (about 2 hours on 2 cores)
     ... study.py --parts s2                                      # one part; the other parts' rows are kept
     ... study.py --parts s2 --replicas 4 --s2-append             # 4 more S2 replicas, new starts (about 40 min on 2 cores)
+    ... study.py --parts s2 --replicas 8 --s2-append --s2-rows 0.01:BAOAB:1,1.0:BAOAB:4   # 8 more of two rows only
     python benchmarks/speed_vs_error/study.py --quick            # a few ps per run, to check it works (5 min)
 
 Writes results to --out (default out/speed_vs_error): results.csv, stability.csv, table.md,
@@ -57,6 +58,7 @@ TEMPERATURE = 300.0
 SCHEMES = {'ExactFlow': rl.RigidLangevinIntegrator.ExactFlow, 'BAOAB': rl.RigidLangevinIntegrator.BAOAB,
            'Original': rl.RigidLangevinIntegrator.Original}
 INTEGRATORS = ['ExactFlow', 'BAOAB', 'Original', 'LangevinMiddle+SETTLE']
+WATER_STEPS = [1.0, 2.0, 4.0]  # fs, S2
 WATER_SWITCH, WATER_CUTOFF = 0.8, 0.9
 S2_REPLICAS = 's2_replicas.json'  # every S2 run's observables, for --s2-append
 
@@ -512,6 +514,10 @@ def main(argv=None):
     parser.add_argument('--s2-integrators', default=','.join(INTEGRATORS),
                         help='the integrators part s2 runs beside its references (default all); with --s2-append, the '
                              "others' rows keep their earlier replicas")
+    parser.add_argument('--s2-rows', default='',
+                        help='with --s2-append, only these rows, as VISCOSITY:INTEGRATOR:STEP_FS separated by commas, and no '
+                             'references: for rows whose own standard error is too large (their paired errors keep the pairs '
+                             'they have)')
     args = parser.parse_args(argv)
     viscosities = [0.01, 0.1, 1.0]
     args.s2_integrators = args.s2_integrators.split(',')
@@ -520,6 +526,9 @@ def main(argv=None):
     args.s2_viscosities = [float(v) for v in args.s2_viscosities.split(',')] if args.s2_viscosities else viscosities
     if not set(args.s2_viscosities) <= set(viscosities):
         parser.error(f'--s2-viscosities: choose from {",".join(str(v) for v in viscosities)}')
+    args.s2_rows = [parse_s2_row(text, viscosities, parser) for text in args.s2_rows.split(',')] if args.s2_rows else []
+    if args.s2_rows and not args.s2_append:
+        parser.error('--s2-rows adds replicas to rows that have them: use it with --s2-append')
     ranks = int(os.environ.get('OMPI_COMM_WORLD_SIZE', os.environ.get('PMI_SIZE', '1')))
     if args.threads == 0:
         args.threads = max(1, (os.cpu_count() or 1)//ranks)
@@ -530,7 +539,7 @@ def main(argv=None):
     args.free_bodies, args.free_body_time, args.helicoid_ps = (10, 4, 5.0) if args.quick else (200, 100, 200.0)
     args.stability_steps = 200 if args.quick else 100000
     args.tconf_replicas = args.tconf_replicas or (2 if args.quick else 32)
-    water_steps = [1.0, 2.0, 4.0]
+    water_steps = WATER_STEPS
     free_steps = [1.0, 2.0, 4.0, 8.0, 16.0]
     parts = set(args.parts.split(','))
     rows, stability = [], []
@@ -553,14 +562,16 @@ def main(argv=None):
         n = args.replicas
         # Seeded by the first replica: appended replicas start from configurations of their own.
         args.starts = starts_per_rank(args, n, ranks, 5+first, None, 'S2 starting configurations (0.01 P)')
+        # --s2-rows: the rows' own replicas only; their references have enough.
         reference_tasks = [{'viscosity': eta, 'integrator': 'ExactFlow', 'step_fs': 0.5, 'seed': 101+first+r, 'replica': r, 'args': args}
-                           for eta in args.s2_viscosities for r in range(n)]
+                           for eta in args.s2_viscosities for r in range(n) if not args.s2_rows]
         saved = args.production_ps
         args.production_ps = args.reference_ps
-        references = distribute(run_water, reference_tasks, 'S2 reference runs (0.5 fs)')
+        references = distribute(run_water, reference_tasks, 'S2 reference runs (0.5 fs)') if reference_tasks else []
         args.production_ps = saved
+        runs = args.s2_rows or [(eta, name, h) for eta in args.s2_viscosities for name in args.s2_integrators for h in water_steps]
         tasks = [{'viscosity': eta, 'integrator': name, 'step_fs': h, 'seed': 7+first+r, 'replica': r, 'args': args}
-                 for eta in args.s2_viscosities for name in args.s2_integrators for h in water_steps for r in range(n)]
+                 for eta, name, h in runs for r in range(n)]
         results = distribute(run_water, tasks, 'S2 rigid water')
         if results is not None:
             records = earlier+[{'reference': reference, 'viscosity': t['viscosity'], 'integrator': t['integrator'],
@@ -602,6 +613,18 @@ def main(argv=None):
     if rows or stability:
         report.write(out, rows, stability)
     return 0
+
+
+def parse_s2_row(text, viscosities, parser):
+    """(viscosity, integrator, step) from --s2-rows' VISCOSITY:INTEGRATOR:STEP_FS."""
+    parts = text.split(':')
+    try:
+        row = (float(parts[0]), parts[1], float(parts[2]))
+    except (ValueError, IndexError):
+        parser.error(f'--s2-rows: {text!r} is not VISCOSITY:INTEGRATOR:STEP_FS (for example 0.01:BAOAB:1)')
+    if len(parts) != 3 or row[0] not in viscosities or row[1] not in INTEGRATORS or row[2] not in WATER_STEPS:
+        parser.error(f'--s2-rows: {text!r}: viscosity one of {viscosities}, integrator one of {INTEGRATORS}, step one of {WATER_STEPS}')
+    return row
 
 
 def s2_rows(records, viscosities, water_steps):
