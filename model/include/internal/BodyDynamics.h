@@ -32,17 +32,24 @@ inline OpenMM::Vec3 toLab(const double q[3][3], const OpenMM::Vec3& v) {
 }
 
 /**
- * The sine and cosine of an angle. Trigonometry dominates the cost of rotating bodies, and the
- * angles they turn by in a step are small (thermal rotation: ~0.01 rad), so below 0.1 rad the Taylor
- * series are summed to the x^13 and x^12 terms: the first terms left out are below 1e-25 relative,
- * so the values are those of std::sin and std::cos to rounding, at a fraction of the cost.
- * Larger angles use the library functions.
+ * The sine and cosine of an angle. Trigonometry sits on the serial chain of a body's rotations (each
+ * sub-rotation's angle depends on the one before), and the angles a body turns by in a step are
+ * small (thermal rotation: ~0.01 rad). Below 0.1 rad the Taylor series are summed to the x^11 and
+ * x^10 terms: the first terms left out are below 2e-21 relative, far below rounding. They are
+ * summed as polynomials in x^2 by Estrin's scheme (pairs of terms, then powers x^4, x^8 of x^2),
+ * whose dependency chain is half as long as Horner's; both round to within an ulp or two of
+ * std::sin and std::cos. Larger angles use the library functions.
  */
 inline void sineAndCosine(double angle, double& sn, double& cs) {
     double x2 = angle*angle;
     if (x2 < 0.01) {
-        sn = angle*(1-x2*(1.0/6)*(1-x2*(1.0/20)*(1-x2*(1.0/42)*(1-x2*(1.0/72)*(1-x2*(1.0/110)*(1-x2*(1.0/156)))))));
-        cs = 1-x2*(1.0/2)*(1-x2*(1.0/12)*(1-x2*(1.0/30)*(1-x2*(1.0/56)*(1-x2*(1.0/90)*(1-x2*(1.0/132))))));
+        double x4 = x2*x2, x8 = x4*x4;
+        // sin(x)/x = s0 + s1 x^2 + ... + s5 x^10 and cos(x) = c0 + c1 x^2 + ... + c5 x^10, with sk =
+        // (-1)^k/(2k+1)! and ck = (-1)^k/(2k)!.
+        double s01 = 1-x2*(1.0/6), s23 = 1.0/120-x2*(1.0/5040), s45 = 1.0/362880-x2*(1.0/39916800);
+        double c01 = 1-x2*0.5, c23 = 1.0/24-x2*(1.0/720), c45 = 1.0/40320-x2*(1.0/3628800);
+        sn = angle*(s01+(x4*s23+x8*s45));
+        cs = c01+(x4*c23+x8*c45);
         return;
     }
     sn = std::sin(angle);
@@ -51,17 +58,19 @@ inline void sineAndCosine(double angle, double& sn, double& cs) {
 
 /**
  * Rotate a body about its body axis `axis` by `angle`: Q -> R^T Q, and each body-frame vector
- * v -> R^T v, where R is the right-handed rotation by angle about that axis.
+ * v -> R^T v, where R is the right-handed rotation by angle about that axis. A null q turns the
+ * vectors alone.
  */
 inline void rotateAboutAxis(double q[3][3], int axis, double angle, OpenMM::Vec3* vectors, int numVectors) {
     int b = (axis+1)%3, c = (axis+2)%3;
     double cs, sn;
     sineAndCosine(angle, sn, cs);
-    for (int k = 0; k < 3; k++) {
-        double qb = q[b][k], qc = q[c][k];
-        q[b][k] = cs*qb+sn*qc;
-        q[c][k] = cs*qc-sn*qb;
-    }
+    if (q != nullptr)
+        for (int k = 0; k < 3; k++) {
+            double qb = q[b][k], qc = q[c][k];
+            q[b][k] = cs*qb+sn*qc;
+            q[c][k] = cs*qc-sn*qb;
+        }
     for (int i = 0; i < numVectors; i++) {
         double vb = vectors[i][b], vc = vectors[i][c];
         vectors[i][b] = cs*vb+sn*vc;
@@ -71,7 +80,7 @@ inline void rotateAboutAxis(double q[3][3], int axis, double angle, OpenMM::Vec3
 
 /**
  * Rotate a body by the rotation vector phi (body frame): Q -> R^T Q and v -> R^T v for each
- * body-frame vector, with R = exp(skew(phi)) by Rodrigues' formula.
+ * body-frame vector, with R = exp(skew(phi)) by Rodrigues' formula. A null q turns the vectors alone.
  */
 inline void rotateByVector(double q[3][3], const OpenMM::Vec3& phi, OpenMM::Vec3* vectors, int numVectors) {
     double angle = std::sqrt(phi.dot(phi));
@@ -84,11 +93,12 @@ inline void rotateByVector(double q[3][3], const OpenMM::Vec3& phi, OpenMM::Vec3
     auto apply = [&](const OpenMM::Vec3& v) {
         return v*cs-n.cross(v)*sn+n*((1-cs)*n.dot(v));
     };
-    for (int k = 0; k < 3; k++) {
-        OpenMM::Vec3 column = apply(OpenMM::Vec3(q[0][k], q[1][k], q[2][k]));
-        for (int i = 0; i < 3; i++)
-            q[i][k] = column[i];
-    }
+    if (q != nullptr)
+        for (int k = 0; k < 3; k++) {
+            OpenMM::Vec3 column = apply(OpenMM::Vec3(q[0][k], q[1][k], q[2][k]));
+            for (int i = 0; i < 3; i++)
+                q[i][k] = column[i];
+        }
     for (int i = 0; i < numVectors; i++)
         vectors[i] = apply(vectors[i]);
 }
@@ -109,7 +119,7 @@ inline void removeAxialComponent(const BodyType& type, OpenMM::Vec3& v) {
  * DLM splitting of Dullweber, Leimkuhler and McLachlan: exact rotations about the body axes
  * x(dt/2) y(dt/2) z(dt) y(dt/2) x(dt/2), each by the angle (sub-step)*drive_k/I_k of the current
  * drive; time-reversible and symplectic. A linear body (equal moments about axes 1 and 2) rotates
- * exactly, about its angular velocity.
+ * exactly, about its angular velocity. A null q turns the vectors alone.
  */
 inline void freeRotate(double q[3][3], const BodyType& type, double dt, OpenMM::Vec3& drive, OpenMM::Vec3* carried, int numCarried) {
     OpenMM::Vec3 vectors[3];
@@ -123,12 +133,14 @@ inline void freeRotate(double q[3][3], const BodyType& type, double dt, OpenMM::
             removeAxialComponent(type, vectors[i]);
     }
     else {
+        // Angle per unit of drive of each sub-rotation, computed before the chain of sub-rotations
+        // (each waits for the one before) so that no division sits on it.
+        const double half = 0.5*dt;
+        const double rate[5] = {half/type.inertia[0], half/type.inertia[1], dt/type.inertia[2], half/type.inertia[1], half/type.inertia[0]};
         static const int axes[5] = {0, 1, 2, 1, 0};
-        static const double fractions[5] = {0.5, 0.5, 1.0, 0.5, 0.5};
         for (int s = 0; s < 5; s++) {
             int axis = axes[s];
-            double angle = fractions[s]*dt*vectors[0][axis]/type.inertia[axis];
-            rotateAboutAxis(q, axis, angle, vectors, numCarried+1);
+            rotateAboutAxis(q, axis, rate[s]*vectors[0][axis], vectors, numCarried+1);
         }
     }
     drive = vectors[0];
@@ -257,16 +269,16 @@ void exactFlow(BodyState& s, const BodyType& type, const TypeStepCoefficients& c
     OpenMM::Vec3 jDrive;
     for (int k = 0; k < 3; k++)
         jDrive[k] = c.driveFraction[3+k]*j[k];
-    double frame[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    // The vectors alone turn: the frame they turn into is the body's new one.
     if (type.numRotations == 2) {
         // A linear body's velocity keeps its axial component: it turns by the same exact rotation.
         OpenMM::Vec3 phi(0, h*jDrive[1]/type.inertia[1], h*jDrive[2]/type.inertia[2]);
-        rotateByVector(frame, phi, &vb, 1);
-        freeRotate(frame, type, h, jDrive, &j, 1);
+        rotateByVector(nullptr, phi, &vb, 1);
+        freeRotate(nullptr, type, h, jDrive, &j, 1);
     }
     else {
         OpenMM::Vec3 turned[2] = {j, vb};
-        freeRotate(frame, type, h, jDrive, turned, 2);
+        freeRotate(nullptr, type, h, jDrive, turned, 2);
         j = turned[0];
         vb = turned[1];
     }
