@@ -8,6 +8,7 @@
  * that have it), so the tests check the integrator from the outside.
  */
 
+#include "PlatformUnderTest.h"
 #include "RigidLangevinIntegrator.h"
 #include "RigidLangevinKernels.h"
 #include "openmm/Context.h"
@@ -284,21 +285,6 @@ inline void getParticles(OpenMM::Context& context, std::vector<Vec3>& pos, std::
     pos = state.getPositions();
     vel = state.getVelocities();
 }
-
-/**
- * The platform a test executable runs on. The shared test bodies (tests/Test*.h) are compiled into
- * one runner per platform (platforms/<platform>/tests/Test<Platform>*.cpp), which includes its
- * platform's header (ReferenceTests.h, CpuTests.h, OpenCLTests.h, CudaTests.h) defining this
- * function. TestMain.cpp loads the platform and this plugin's kernels for it before any test runs.
- */
-struct PlatformUnderTest {
-    std::string name;           ///< OpenMM's name of the platform
-    std::string openmmLibrary;  ///< OpenMM's plugin library providing it ("" for Reference, built into libOpenMM)
-    std::string pluginLibrary;  ///< this plugin's kernel library for it ("" for Reference, linked into the tests)
-    bool mayBeMissing;          ///< only CUDA: absent where the machine has no NVIDIA driver, then reported skipped
-};
-
-const PlatformUnderTest& platformUnderTest();
 
 /** A platform and the precision to run it in. */
 struct PlatformConfig {

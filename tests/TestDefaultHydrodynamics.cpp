@@ -5,6 +5,7 @@
  */
 #include "ReferenceTests.h"
 #include "ResistanceTensor.h"
+#include "RigidBodyTestUtilities.h"
 #include "internal/RigidBodyModel.h"
 #include "openmm/OpenMMException.h"
 #include <gtest/gtest.h>

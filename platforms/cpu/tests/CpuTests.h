@@ -3,7 +3,7 @@
 
 // Included first by every runner in this directory: its tests run on the CPU platform (OpenMM's
 // libOpenMMCPU and this plugin's libRigidLangevinCPU)..
-#include "RigidBodyTestUtilities.h"
+#include "PlatformUnderTest.h"
 
 const RigidBodyTest::PlatformUnderTest& RigidBodyTest::platformUnderTest() {
     static const PlatformUnderTest platform = {"CPU", "libOpenMMCPU.so", "libRigidLangevinCPU.so", false};

@@ -5,6 +5,7 @@
  * derived from it, keeps its own threaded kernel whichever plugin loads first.
  */
 #include "CpuTests.h"
+#include "RigidBodyTestUtilities.h"
 #include "ReferencePlatform.h"
 #include <gtest/gtest.h>
 

@@ -6,6 +6,7 @@
  * kernel runs threaded (CpuIntegrateRigidLangevinStepKernel::MinBodiesForThreads).
  */
 #include "CpuTests.h"
+#include "RigidBodyTestUtilities.h"
 #include "openmm/CustomExternalForce.h"
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>

@@ -1,3 +1,4 @@
-// tests/TestAtomReordering.h on the CUDA platform.
+// tests/TestAtomReordering.h on the CUDA platform: this runner names the platform (its header
+// defines platformUnderTest()); the body, compiled once for every platform, is linked in
+// (tests/CMakeLists.txt).
 #include "CudaTests.h"
-#include "TestAtomReordering.h"

@@ -1,3 +1,4 @@
-// tests/TestBodyKinds.h on the CUDA platform.
+// tests/TestBodyKinds.h on the CUDA platform: this runner names the platform (its header
+// defines platformUnderTest()); the body, compiled once for every platform, is linked in
+// (tests/CMakeLists.txt).
 #include "CudaTests.h"
-#include "TestBodyKinds.h"

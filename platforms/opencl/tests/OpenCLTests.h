@@ -3,7 +3,7 @@
 
 // Included first by every runner in this directory: its tests run on the OpenCL platform (PoCL on
 // machines without a GPU), in the precisions each test names.
-#include "RigidBodyTestUtilities.h"
+#include "PlatformUnderTest.h"
 
 const RigidBodyTest::PlatformUnderTest& RigidBodyTest::platformUnderTest() {
     static const PlatformUnderTest platform = {"OpenCL", "libOpenMMOpenCL.so", "libRigidLangevinOpenCL.so", false};

@@ -1,3 +1,4 @@
-// tests/TestBadInput.h on the OpenCL platform.
+// tests/TestBadInput.h on the OpenCL platform: this runner names the platform (its header
+// defines platformUnderTest()); the body, compiled once for every platform, is linked in
+// (tests/CMakeLists.txt).
 #include "OpenCLTests.h"
-#include "TestBadInput.h"

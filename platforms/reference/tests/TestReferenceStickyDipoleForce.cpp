@@ -1,3 +1,4 @@
-// tests/TestStickyDipoleForce.h on the Reference platform.
+// tests/TestStickyDipoleForce.h on the Reference platform: this runner names the platform (its header
+// defines platformUnderTest()); the body, compiled once for every platform, is linked in
+// (tests/CMakeLists.txt).
 #include "ReferenceTests.h"
-#include "TestStickyDipoleForce.h"
