@@ -188,7 +188,7 @@ PROFILES = [('H100, before (61978fa)', 'gpu_h100/gpu_bandwidth_before.csv', 'mix
             ('H200, today, single', 'gpu_h200/gpu_bandwidth_single.csv', 'single', common_current)]
 
 # Where each machine's integrator_cost.py times are, and the model of the kernels they timed.
-TIMED = [('this machine (CPU, PoCL; kernels of 3ed7dd0)', '', [('CPU', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')], common_fused),
+TIMED = [('this machine (CPU, PoCL; kernels of 01ddd0e)', '', [('CPU', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')], common_current),
          ('H100 (kernels of 3ed7dd0)', 'gpu_h100', [('CUDA', 'single'), ('CUDA', 'mixed')], common_fused),
          ('H200 (kernels of b9f060f)', 'gpu_h200', [('CUDA', 'single'), ('CUDA', 'mixed')], common_h200)]
 
