@@ -72,20 +72,26 @@ def common_current(n, precision, periodic=False):
     """Bytes per body-step of the common step kernel as written (ExactFlow): one pass per body that
     steps it and places its particles, making its random numbers itself (rigidBodyRandom.cc).
     Body-frame coordinates, with the inverse masses written to velm.w, are read per type (from
-    cache); the body's periodic image only in a periodic box (integrator_cost.py's bodies are not in
-    one); a body that does not rotate neither reads nor writes an angular momentum; the rotation's
-    first two rows fill one mixed4 and the w of velocity and angular momentum."""
+    cache); in a periodic box the body's shift (one int4: every particle of a body has the same
+    cell offset, CommonRigidLangevinKernels.h), not read without one (integrator_cost.py's bodies
+    are not in a box); a body that does not rotate neither reads nor writes an angular momentum;
+    the rotation's first two rows fill one mixed4 and the w of velocity and angular momentum."""
     m, r = PRECISIONS[precision]
-    step = (INT+INT+(INT4 if periodic else 0)         # bodyType, bodyAtomStart, bodyImage
+    step = (INT+INT+(INT4 if periodic else 0)         # bodyType, bodyAtomStart, bodyShift
             + _body_state(n, precision, points_move_angular_momentum=False, rotation_mixed4=1)
             + n*(INT+FORCE)                           # atomSlot, force
-            + _particle_placement(n, precision, reads_velm=False, reads_cell_offsets=periodic))
+            + _particle_placement(n, precision, reads_velm=False, reads_cell_offsets=False))
     return {'step': step}
 
 
+def common_cell_offsets(n, precision, periodic=False):
+    """The kernels of commits b9f060f to aef7a69: today's, but reading each particle's own cell
+    offset in a periodic box (the kernels up to b9f060f, profiled on the H200, read them in any box)."""
+    return {'step': common_current(n, precision, periodic)['step']+(n*INT4 if periodic else 0)}
+
+
 def common_h200(n, precision):
-    """The kernels as profiled on the H200 (commit b9f060f): today's, but reading the particles' cell
-    offsets in any box."""
+    """The kernels as profiled on the H200 (commit b9f060f): the cell offsets read in any box."""
     return {'step': common_current(n, precision)['step']+n*INT4}
 
 
@@ -123,8 +129,24 @@ def common_minimum(n, precision):
     return state+particles, n*4*m
 
 
+def common_layout_minimum(n, precision):
+    """The minimum within OpenMM's arrays: particle velocities written (a State reads velm, and OpenMM
+    gives an integrator no hook to make them on demand), and posq read, since its w holds the charge,
+    which other forces own and may change (NonbondedForce's parameter offsets do every step); writing
+    x, y and z alone would leave a partial sector, which memory with ECC reads to update its check bits."""
+    m, r = PRECISIONS[precision]
+    minimum, velocities = common_minimum(n, precision)
+    return minimum+velocities+n*4*r
+
+
 def cpu_current(n):
-    """Bytes per body-step of the CPU (and Reference) kernel as written: one pass per body in double."""
+    """Bytes per body-step of the CPU (and Reference) kernel as written: one pass per body in double;
+    a body that does not rotate moves only its position and velocity (HostBodyStates::loadPoint)."""
+    return cpu_before(n)-(2*(3*8+9*8) if rotations(n) == 0 else 0)
+
+
+def cpu_before(n):
+    """The CPU kernel until aef7a69: every body's whole state in and out."""
     d = 8
     return (2*(3*d+3*d+3*d+9*d)                       # position, velocity, angular momentum, rotation matrix in and out
             + INT+24+n*INT                            # body type, the body's particle list (vector header and indices)
@@ -200,24 +222,25 @@ def main(argv=None):
     rows = []
     for precision in PRECISIONS:
         for n in PARTICLES:
-            current = common_current(n, precision)
-            before = sum(common_before(n, precision).values())
             minimum, velocities = common_minimum(n, precision)
-            total = sum(current.values())
-            periodic = sum(common_current(n, precision, periodic=True).values())
             rows.append({'platform': 'OpenCL/CUDA', 'precision': precision, 'particles': n, 'minimum': minimum,
-                         'particle velocities': velocities, 'before': before, 'current': total,
-                         'current/minimum': total/minimum, 'current/(minimum+velocities)': total/(minimum+velocities),
-                         'current, periodic': periodic, 'current, periodic/minimum': periodic/minimum})
+                         'particle velocities': velocities, 'layout minimum': common_layout_minimum(n, precision),
+                         'before': sum(common_before(n, precision).values()), 'current': sum(common_current(n, precision).values()),
+                         'periodic, cell offsets': sum(common_cell_offsets(n, precision, periodic=True).values()),
+                         'current, periodic': sum(common_current(n, precision, periodic=True).values())})
     for n in PARTICLES:
         minimum, velocities = cpu_minimum(n)
-        current = cpu_current(n)
         rows.append({'platform': 'CPU', 'precision': 'double', 'particles': n, 'minimum': minimum, 'particle velocities': velocities,
-                     'before': current, 'current': current, 'current/minimum': current/minimum,
-                     'current/(minimum+velocities)': current/(minimum+velocities),
-                     'current, periodic': current, 'current, periodic/minimum': current/minimum})
-    fields = ['platform', 'precision', 'particles', 'minimum', 'particle velocities', 'before', 'current', 'current/minimum',
-              'current/(minimum+velocities)', 'current, periodic', 'current, periodic/minimum']
+                     'layout minimum': minimum+velocities, 'before': cpu_before(n), 'current': cpu_current(n),
+                     'periodic, cell offsets': cpu_before(n), 'current, periodic': cpu_current(n)})
+    for r in rows:
+        r['current/minimum'] = r['current']/r['minimum']
+        r['current/layout minimum'] = r['current']/r['layout minimum']
+        r['current, periodic/minimum'] = r['current, periodic']/r['minimum']
+        r['current, periodic/layout minimum'] = r['current, periodic']/r['layout minimum']
+    fields = ['platform', 'precision', 'particles', 'minimum', 'particle velocities', 'layout minimum', 'before', 'current',
+              'current/minimum', 'current/layout minimum', 'periodic, cell offsets', 'current, periodic', 'current, periodic/minimum',
+              'current, periodic/layout minimum']
     with open(os.path.join(RESULTS, 'traffic.csv'), 'w', newline='') as f:
         writer = csv.DictWriter(f, fieldnames=fields)
         writer.writeheader()
@@ -226,21 +249,24 @@ def main(argv=None):
     lines = ['# Bytes per body-step: minimum against today (model)', '',
              'ExactFlow; 1-particle bodies are points (no rotation), 3 and 10 particles rotate about three axes. '
              '"minimum": body state in and out, forces, slots and positions of the particles; "particle velocities": '
-             'what writing them every step adds; "before": the kernels of commit 61978fa (a step kernel, then a particle '
-             'placement kernel); "today": what the step kernel moves as written now (one pass per body that steps it, places '
-             'its particles and makes its random numbers; body-frame coordinates per type, with the inverse masses it writes to '
-             'velm.w; the rotation\'s first two rows in one mixed4 and the w of velocity and angular momentum; no angular '
-             'momentum for a body that does not rotate; no periodic box, as in '
-             'integrator_cost.py); "today, periodic box": the same in a periodic box, where a step also reads the body\'s '
-             'image (16 bytes) and each particle\'s cell offset (16 bytes).', '',
-             '| platform | precision | particles | minimum | + particle velocities | before | today | today / minimum | '
-             'today / (minimum + velocities) | today, periodic box | today, periodic box / minimum |',
-             '|---|---|---|---|---|---|---|---|---|---|---|']
+             'what writing them every step adds; "OpenMM\'s layout": the minimum with particle velocities written (a State '
+             'reads them from OpenMM\'s array, and OpenMM gives an integrator no hook to make them on demand) and, on the '
+             'common platforms, posq read as well as written (its w is the charge, which other forces own and may change '
+             'at any step). "before": the kernels of commit 61978fa on the common platforms (a step kernel, then a particle '
+             'placement kernel) and of aef7a69 on the CPU; "today": what the step kernel moves as written now (common: one '
+             'pass per body that steps it, places its particles and makes its random numbers; body-frame coordinates per '
+             'type, with the inverse masses it writes to velm.w; the rotation\'s first two rows in one mixed4 and the w of '
+             'velocity and angular momentum; no angular momentum for a body that does not rotate; no periodic box, as in '
+             'integrator_cost.py). "periodic box": the same in a periodic box, where a step also reads the body\'s shift '
+             '(16 bytes); until aef7a69 it also read each particle\'s cell offset (16 bytes each: "periodic, cell offsets").', '',
+             '| platform | precision | particles | minimum | + particle velocities | OpenMM\'s layout | before | today | '
+             'today / minimum | today / layout | periodic, cell offsets | periodic box | periodic / minimum | periodic / layout |',
+             '|---|---|---|---|---|---|---|---|---|---|---|---|---|---|']
     for r in rows:
         lines.append(f"| {r['platform']} | {r['precision']} | {r['particles']} | {r['minimum']} | {r['particle velocities']} | "
-                     f"{r['before']} | {r['current']} | "
-                     f"{r['current/minimum']:.2f} | {r['current/(minimum+velocities)']:.2f} | "
-                     f"{r['current, periodic']} | {r['current, periodic/minimum']:.2f} |")
+                     f"{r['layout minimum']} | {r['before']} | {r['current']} | {r['current/minimum']:.2f} | "
+                     f"{r['current/layout minimum']:.2f} | {r['periodic, cell offsets']} | {r['current, periodic']} | "
+                     f"{r['current, periodic/minimum']:.2f} | {r['current, periodic/layout minimum']:.2f} |")
 
     measured = [(label, profile_rows(path), precision, kernels) for label, path, precision, kernels in PROFILES]
     measured = [m for m in measured if m[1]]

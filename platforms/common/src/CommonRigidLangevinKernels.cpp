@@ -20,11 +20,11 @@ namespace {
 /** Arguments of the step kernels set at every step (the seed: when a checkpoint is loaded; the others are fixed). */
 enum StepArgument {
     StepFirst = 0, StepLast = 1, StepFrictionless = 2, StepSize = 3, StepRemoveMotion = 4,
-    StepRandomSeed = 17, StepRandomStep = 18, StepRandomPerBody = 19, StepBox = 22
+    StepRandomSeed = 16, StepRandomStep = 17, StepRandomPerBody = 18, StepBox = 21
 };
 
 /** The first periodic box vector argument of placeBodyAtoms. */
-const int PlaceBox = 16;
+const int PlaceBox = 15;
 
 /** Whole boxes to subtract from r to bring it into the periodic box of reduced vectors a, b, c (as keepInBox does). */
 mm_int4 imageOf(Vec3& r, const Vec3* box) {
@@ -72,14 +72,14 @@ public:
     explicit AtomOrderListener(CommonIntegrateRigidLangevinStepKernel& owner) : owner(owner) {
     }
     void execute() {
-        owner.updateAtomSlots();
+        owner.atomsReordered();
     }
 private:
     CommonIntegrateRigidLangevinStepKernel& owner;
 };
 
 CommonIntegrateRigidLangevinStepKernel::CommonIntegrateRigidLangevinStepKernel(string name, const Platform& platform, ComputeContext& cc) :
-        RigidLangevinStepKernelBase(name, platform), cc(cc), mixedIsDouble(false), hasSetArguments(false), periodic(false), numBodies(0), numEntries(0),
+        RigidLangevinStepKernelBase(name, platform), cc(cc), mixedIsDouble(false), hasSetArguments(false), periodic(false), hasStates(false), numBodies(0), numEntries(0),
         numReductionGroups(1), randomSeed(0), randomStep(0) {
 }
 
@@ -162,8 +162,9 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
     initializeArray<int>(bodyType, cc, numBodies, "rigidBodyType");
     initializeArray<int>(bodyAtomStart, cc, numBodies+1, "rigidBodyAtomStart");
     initializeArray<int>(atomSlot, cc, numEntries, "rigidBodyAtomSlot");
-    initializeArray<mm_int4>(atomCellOffset, cc, numEntries, "rigidBodyAtomCellOffset");
-    initializeArray<mm_int4>(bodyImage, cc, numBodies, "rigidBodyImage");
+    initializeArray<mm_int4>(bodyShift, cc, numBodies, "rigidBodyShift");
+    bodyCell.assign(numBodies, mm_int4(0, 0, 0, 0));
+    hasStates = false;
     initializeArray<mm_int4>(typeInfo, cc, model.getNumTypes(), "rigidBodyTypeInfo");
     if (numBodies > 0) {
         bodyType.upload(types);
@@ -194,6 +195,25 @@ void CommonIntegrateRigidLangevinStepKernel::uploadTypeParameters() {
     typeInfo.upload(hostTypeInfo);
 }
 
+void CommonIntegrateRigidLangevinStepKernel::atomsReordered() {
+    ContextSelector selector(cc);
+    updateAtomSlots();
+    if (!periodic || !hasStates)
+        return;
+    // OpenMM has wrapped molecules, setting their particles' cell offsets: give each body's
+    // particles one again, recentred (class comment), and place them.
+    vector<mm_int4> shift;
+    bodyShift.download(shift);
+    for (int k = 0; k < numBodies; k++) {
+        bodyCell[k] = mm_int4(bodyCell[k].x-shift[k].x, bodyCell[k].y-shift[k].y, bodyCell[k].z-shift[k].z, 0);
+        shift[k] = mm_int4(0, 0, 0, 0);
+    }
+    bodyShift.upload(shift);
+    setBodyCells();
+    setBoxArguments();
+    placeAtoms();
+}
+
 void CommonIntegrateRigidLangevinStepKernel::updateAtomSlots() {
     if (entryParticle.empty())
         return;
@@ -202,15 +222,18 @@ void CommonIntegrateRigidLangevinStepKernel::updateAtomSlots() {
     vector<int> slotOfParticle(order.size());
     for (int slot = 0; slot < (int) order.size(); slot++)
         slotOfParticle[order[slot]] = slot;
-    const vector<mm_int4>& cellOffsets = cc.getPosCellOffsets();
-    vector<int> slots(numEntries);
-    vector<mm_int4> cells(numEntries);
-    for (int e = 0; e < numEntries; e++) {
-        slots[e] = slotOfParticle[entryParticle[e]];
-        cells[e] = cellOffsets[slots[e]];
-    }
-    atomSlot.upload(slots);
-    atomCellOffset.upload(cells);
+    entrySlot.resize(numEntries);
+    for (int e = 0; e < numEntries; e++)
+        entrySlot[e] = slotOfParticle[entryParticle[e]];
+    atomSlot.upload(entrySlot);
+}
+
+void CommonIntegrateRigidLangevinStepKernel::setBodyCells() {
+    vector<mm_int4>& cells = cc.getPosCellOffsets();
+    int entry = 0;
+    for (int k = 0; k < numBodies; k++)
+        for (int end = entry+(int) model->getBodyParticles(bodyOrder[k]).size(); entry < end; entry++)
+            cells[entrySlot[entry]] = bodyCell[k];
 }
 
 void CommonIntegrateRigidLangevinStepKernel::setKernelArguments() {
@@ -227,11 +250,10 @@ void CommonIntegrateRigidLangevinStepKernel::setKernelArguments() {
     placeKernel->addArg(bodyType);
     placeKernel->addArg(typeParams);
     placeKernel->addArg(typeInfo);
-    placeKernel->addArg(bodyImage);
+    placeKernel->addArg(bodyShift);
     placeKernel->addArg(bodyAtomStart);
     placeKernel->addArg(atomSlot);
     placeKernel->addArg(typeCoords);
-    placeKernel->addArg(atomCellOffset);
     placeKernel->addArg(cc.getPosq());
     // Written only in mixed precision; posq stands in for it otherwise.
     placeKernel->addArg(cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq());
@@ -271,7 +293,6 @@ void CommonIntegrateRigidLangevinStepKernel::setStepArguments(vector<ComputeKern
         kernel->addArg(bodyAtomStart);
         kernel->addArg(atomSlot);
         kernel->addArg(typeCoords);
-        kernel->addArg(atomCellOffset);
         kernel->addArg(cc.getLongForceBuffer());
         kernel->addArg(typeParams);
         kernel->addArg(typeInfo);
@@ -282,7 +303,7 @@ void CommonIntegrateRigidLangevinStepKernel::setStepArguments(vector<ComputeKern
         kernel->addArg(periodic ? 1 : 0);
         for (int i = 0; i < 3; i++)
             kernel->addArg();  // periodic box vectors
-        kernel->addArg(bodyImage);
+        kernel->addArg(bodyShift);
         kernel->addArg(cc.getPosq());
         kernel->addArg(cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq());
         kernel->addArg(cc.getVelm());
@@ -336,15 +357,17 @@ void CommonIntegrateRigidLangevinStepKernel::initializeMixedArrays(int numTypes,
 template <class Mixed, class Mixed4>
 void CommonIntegrateRigidLangevinStepKernel::uploadStates(const vector<BodyState>& states) {
     vector<Mixed4> position(numBodies), velocity(numBodies), angularMomentum(numBodies), rotation(numBodies);
-    vector<mm_int4> image(numBodies, mm_int4(0, 0, 0, 0));
     Vec3 box[3];
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
     for (int k = 0; k < numBodies; k++) {
         const BodyState& s = states[bodyOrder[k]];
-        // In the box, in double precision, before rounding to the device's.
+        // In the box, in double precision, before rounding to the device's; recentred (zero shift).
         Vec3 r = s.position;
-        if (periodic)
-            image[k] = imageOf(r, box);
+        bodyCell[k] = mm_int4(0, 0, 0, 0);
+        if (periodic) {
+            mm_int4 image = imageOf(r, box);
+            bodyCell[k] = mm_int4(-image.x, -image.y, -image.z, 0);
+        }
         position[k] = Mixed4((Mixed) r[0], (Mixed) r[1], (Mixed) r[2], 0);
         // The rotation's first two rows, packed as the kernels keep them (rigidBodyAtoms.cc).
         velocity[k] = Mixed4((Mixed) s.velocity[0], (Mixed) s.velocity[1], (Mixed) s.velocity[2], (Mixed) s.rotation[1][1]);
@@ -353,7 +376,7 @@ void CommonIntegrateRigidLangevinStepKernel::uploadStates(const vector<BodyState
         rotation[k] = Mixed4((Mixed) s.rotation[0][0], (Mixed) s.rotation[0][1], (Mixed) s.rotation[0][2], (Mixed) s.rotation[1][0]);
     }
     bodyPosition.upload(position);
-    bodyImage.upload(image);
+    bodyShift.upload(vector<mm_int4>(numBodies, mm_int4(0, 0, 0, 0)));
     bodyVelocity.upload(velocity);
     bodyAngularMomentum.upload(angularMomentum);
     bodyRotation.upload(rotation);
@@ -366,14 +389,16 @@ void CommonIntegrateRigidLangevinStepKernel::downloadStates(vector<BodyState>& s
     bodyVelocity.download(velocity);
     bodyAngularMomentum.download(angularMomentum);
     bodyRotation.download(rotation);
-    vector<mm_int4> image;
-    bodyImage.download(image);
+    vector<mm_int4> shift;
+    bodyShift.download(shift);
     Vec3 box[3];
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
     states.resize(numBodies);
     for (int k = 0; k < numBodies; k++) {
         BodyState& s = states[bodyOrder[k]];
-        s.position = Vec3(position[k].x, position[k].y, position[k].z)+box[0]*image[k].x+box[1]*image[k].y+box[2]*image[k].z;
+        // The boxes the stored centre is short of the true one (class comment).
+        mm_int4 image(shift[k].x-bodyCell[k].x, shift[k].y-bodyCell[k].y, shift[k].z-bodyCell[k].z, 0);
+        s.position = Vec3(position[k].x, position[k].y, position[k].z)+box[0]*image.x+box[1]*image.y+box[2]*image.z;
         s.velocity = Vec3(velocity[k].x, velocity[k].y, velocity[k].z);
         s.angularMomentum = Vec3(angularMomentum[k].x, angularMomentum[k].y, angularMomentum[k].z);
         // The first two rows as the kernels keep them; the third is their cross product.
@@ -395,8 +420,9 @@ void CommonIntegrateRigidLangevinStepKernel::uploadBodyStates(ContextImpl& conte
         uploadStates<double, mm_double4>(states);
     else
         uploadStates<float, mm_float4>(states);
-    // Setting positions may have changed the cell offsets without reordering atoms.
     updateAtomSlots();
+    setBodyCells();
+    hasStates = true;
     setBoxArguments();
     placeAtoms();
 }

@@ -37,6 +37,25 @@ struct HostBodyStates {
                 s.rotation[i][j] = q[3*i+j];
         return s;
     }
+    /**
+     * Load a body that does not rotate without reading what it cannot change: its angular momentum
+     * is zero and its rotation the identity (RigidBodyModel gives such a body the identity frame and
+     * no off-centre particle, and it never turns). Store it back with storePoint().
+     */
+    BodyState loadPoint(int body) const {
+        BodyState s;
+        s.position = position[body];
+        s.velocity = velocity[body];
+        s.angularMomentum = OpenMM::Vec3();
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                s.rotation[i][j] = (i == j ? 1.0 : 0.0);
+        return s;
+    }
+    void storePoint(int body, const BodyState& s) {
+        position[body] = s.position;
+        velocity[body] = s.velocity;
+    }
     void store(int body, const BodyState& s) {
         position[body] = s.position;
         velocity[body] = s.velocity;

@@ -90,7 +90,8 @@ protected:
                 int typeIndex = model->getBodyType(b);
                 const BodyType& type = model->getType(typeIndex);
                 const TypeStepCoefficients& c = coefficients[typeIndex];
-                BodyState s = bodies.load(b);
+                const bool point = (type.numRotations == 0);
+                BodyState s = (point ? bodies.loadPoint(b) : bodies.load(b));
                 if (removeMotion)
                     s.velocity -= centerOfMassVelocity;
                 OpenMM::Vec3 force, torque;
@@ -115,7 +116,10 @@ protected:
                         BodyDynamics::drift(s, type, 0.5*h);
                     }
                 }
-                bodies.store(b, s);
+                if (point)
+                    bodies.storePoint(b, s);
+                else
+                    bodies.store(b, s);
                 model->placeBodyParticles(b, s, *data.positions, *data.velocities);
             }
         });
