@@ -2,7 +2,9 @@
  * The host's rotations (model/include/internal/BodyDynamics.h), which every step of a rotating body
  * on Reference and CPU runs a dozen times: the small-angle sine and cosine must be std::sin and
  * std::cos to rounding, and a rotation of vectors alone (a null Q, as ExactFlow turns the end
- * velocities) must turn them exactly as a rotation of the body does.
+ * velocities) must turn them exactly as a rotation of the body does. The common platforms' own
+ * (platforms/common/src/kernels/rigidBodyMath.cc), compiled here on the host as the devices compile
+ * it, in each precision of its "mixed" type: their series must round as the library does too.
  */
 #include "ReferenceTests.h"  // the test runner's platform (the functions need none)
 #include "internal/BodyDynamics.h"
@@ -13,36 +15,89 @@
 using namespace OpenMM;
 using namespace RigidLangevinPlugin;
 
+// The device source in the host's dialect, once with mixed as double (mixed and double precision)
+// and once as float (single precision).
+#define DEVICE static inline
+namespace DeviceDouble {
+typedef double mixed;
+static inline void sincos(double x, double* s, double* c) {
+    *s = std::sin(x);
+    *c = std::cos(x);
+}
+using std::sqrt;
+#define USE_DOUBLE_PRECISION
+#include "../platforms/common/src/kernels/rigidBodyMath.cc"
+#undef USE_DOUBLE_PRECISION
+}
+namespace DeviceSingle {
+typedef float mixed;
+static inline void sincos(float x, float* s, float* c) {
+    *s = std::sin(x);
+    *c = std::cos(x);
+}
+using std::sqrt;
+#include "../platforms/common/src/kernels/rigidBodyMath.cc"
+}
+#undef DEVICE
+
 namespace {
 
-/** |a-b| in units of the spacing of doubles at b. */
-double ulps(double a, double b) {
-    return std::abs(a-b)/(std::nextafter(std::abs(b), 1e300)-std::abs(b));
+/** |a-b| in units of the spacing of doubles (or floats) at b. */
+template <class Real>
+double ulps(Real a, Real b) {
+    return std::abs((double) a-(double) b)/((double) std::nextafter(std::abs(b), (Real) 1e30)-(double) std::abs(b));
+}
+
+/**
+ * The largest error, in ulps of the exact value, of sineAndCosine(x, sn, cs) over the angles a step
+ * turns by (|x| < 0.1, where the series are used) and across the switch to the library functions:
+ * evenly spaced, log-spaced down to 1e-10, then random. The exact values are std::sin and std::cos
+ * in long double, rounded to Real.
+ */
+template <class Real, class SineAndCosine>
+void worstErrors(SineAndCosine sineAndCosine, double& worstSine, double& worstCosine) {
+    std::mt19937_64 engine(3);
+    std::uniform_real_distribution<double> uniform(-0.12, 0.12);
+    worstSine = worstCosine = 0;
+    for (int i = 0; i < 200000; i++) {
+        Real x = (Real) (i < 1000 ? 1e-3*(i-500)*0.2 : i < 2000 ? 0.1*std::pow(10.0, -0.01*(i-1000)) : uniform(engine));
+        Real sn, cs;
+        sineAndCosine(x, sn, cs);
+        Real exactSine = (Real) std::sin((long double) x), exactCosine = (Real) std::cos((long double) x);
+        if (x != 0)
+            worstSine = std::max(worstSine, ulps(sn, exactSine));
+        worstCosine = std::max(worstCosine, ulps(cs, exactCosine));
+    }
 }
 
 } // namespace
 
 TEST(Rotations, SmallAngleSineAndCosineAreTheLibrarysToRounding) {
-    // Every angle the series takes (|x| < 0.1, where a step's rotations are) and across the switch
-    // to the library functions. A wrong coefficient (1/5040 as 1/5000) is ~1e5 ulps off at 0.1, a
-    // series one term short ~1e-2 ulps; rounding of the sum leaves at most 2.
-    std::mt19937_64 engine(3);
-    std::uniform_real_distribution<double> uniform(-0.12, 0.12);
-    double worstSine = 0, worstCosine = 0;
-    for (int i = 0; i < 200000; i++) {
-        double x = (i < 1000 ? 1e-3*(i-500)*0.2 : i < 2000 ? 0.1*std::pow(10.0, -0.01*(i-1000)) : uniform(engine));
-        double sn, cs;
-        BodyDynamics::sineAndCosine(x, sn, cs);
-        if (x != 0)
-            worstSine = std::max(worstSine, ulps(sn, std::sin(x)));
-        worstCosine = std::max(worstCosine, ulps(cs, std::cos(x)));
-    }
+    // A wrong coefficient (1/5040 as 1/5000) is ~1e4 ulps off at 0.1, a series one term short ~1e-2
+    // ulps; rounding of the sum leaves at most 2.
+    double worstSine, worstCosine;
+    worstErrors<double>([] (double x, double& sn, double& cs) {BodyDynamics::sineAndCosine(x, sn, cs);}, worstSine, worstCosine);
     EXPECT_LE(worstSine, 2.0);
     EXPECT_LE(worstCosine, 2.0);
     double sn, cs;
     BodyDynamics::sineAndCosine(0.0, sn, cs);
     EXPECT_EQ(0.0, sn);
     EXPECT_EQ(1.0, cs);
+}
+
+TEST(Rotations, DeviceSineAndCosineAreTheLibrarysToRounding) {
+    // In double, as on the host (a wrong coefficient, 1/720 as 1/700, is ~4e5 ulps off). In float
+    // the series stop at x^5 and x^4: one term shorter they are 12 (sine) and 70 (cosine) ulps off
+    // at 0.1, with a wrong coefficient (1/120 as 1/100) 3; their rounding in float leaves at most 1.
+    double worstSine, worstCosine;
+    worstErrors<double>([] (double x, double& sn, double& cs) {DeviceDouble::sineAndCosine(x, &sn, &cs);}, worstSine, worstCosine);
+    std::cout << "double: sine " << worstSine << ", cosine " << worstCosine << " ulps" << std::endl;
+    EXPECT_LE(worstSine, 2.0);
+    EXPECT_LE(worstCosine, 2.0);
+    worstErrors<float>([] (float x, float& sn, float& cs) {DeviceSingle::sineAndCosine(x, &sn, &cs);}, worstSine, worstCosine);
+    std::cout << "single: sine " << worstSine << ", cosine " << worstCosine << " ulps" << std::endl;
+    EXPECT_LE(worstSine, 1.0);
+    EXPECT_LE(worstCosine, 1.0);
 }
 
 TEST(Rotations, VectorsAloneTurnAsWithTheBody) {
