@@ -3,6 +3,7 @@
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ContextSelector.h"
 #include "openmm/common/IntegrationUtilities.h"
+#include "openmm/VirtualSite.h"
 #include "openmm/internal/ContextImpl.h"
 #include <algorithm>
 #include <map>
@@ -153,6 +154,7 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
         }
     }
     atomStart[numBodies] = numEntries;
+    hostAtomStart = atomStart;
     numReductionGroups = std::max(1, std::min(cc.getNumThreadBlocks(), (numBodies+ReductionGroupSize-1)/ReductionGroupSize));
 
     if (mixedIsDouble)
@@ -186,8 +188,68 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
         hostTypeInfo[t] = mm_int4(coordStart[t], type.numRotations, 0, (int) type.frictionClass);
     }
     uploadTypeParameters();
+    linkBodiesThroughSites(context.getSystem());
     updateAtomSlots();
     setKernelArguments();
+}
+
+void CommonIntegrateRigidLangevinStepKernel::linkBodiesThroughSites(const System& system) {
+    // Bodies whose particles are parents of one virtual site outside every body form a group with
+    // one cell offset, the site's: OpenMM computes the site from its parents' stored positions, so
+    // they must be stored in one frame (union-find, each group led by its first body).
+    vector<int> entryBody(numEntries);
+    for (int k = 0; k < numBodies; k++)
+        for (int e = hostAtomStart[k]; e < hostAtomStart[k+1]; e++)
+            entryBody[e] = k;
+    vector<int> bodyOfParticle(system.getNumParticles(), -1);
+    for (int e = 0; e < numEntries; e++)
+        bodyOfParticle[entryParticle[e]] = entryBody[e];
+    bodyLeader.resize(numBodies);
+    std::iota(bodyLeader.begin(), bodyLeader.end(), 0);
+    auto leader = [&] (int k) {
+        while (bodyLeader[k] != k)
+            k = bodyLeader[k] = bodyLeader[bodyLeader[k]];
+        return k;
+    };
+    siteParticle.clear();
+    vector<int> siteBody;
+    for (int p = 0; p < system.getNumParticles(); p++) {
+        if (!system.isVirtualSite(p) || bodyOfParticle[p] != -1)
+            continue;
+        const VirtualSite& site = system.getVirtualSite(p);
+        int first = -1;
+        for (int i = 0; i < site.getNumParticles(); i++) {
+            int k = bodyOfParticle[site.getParticle(i)];
+            if (k == -1)
+                continue;  // a massless particle in no body: OpenMM keeps its cell offset
+            if (first == -1)
+                first = k;
+            else {
+                int a = leader(first), b = leader(k);
+                bodyLeader[std::max(a, b)] = std::min(a, b);
+            }
+        }
+        if (first != -1) {
+            siteParticle.push_back(p);
+            siteBody.push_back(first);
+        }
+    }
+    for (int k = 0; k < numBodies; k++)
+        bodyLeader[k] = leader(k);
+    siteLeader.resize(siteBody.size());
+    for (int i = 0; i < (int) siteBody.size(); i++)
+        siteLeader[i] = bodyLeader[siteBody[i]];
+}
+
+vector<mm_int4> CommonIntegrateRigidLangevinStepKernel::recentre(const vector<mm_int4>& image) {
+    // A group's leader gets no shift; the other bodies share its cell offset (class comment).
+    vector<mm_int4> shift(numBodies);
+    for (int k = 0; k < numBodies; k++) {
+        const mm_int4& lead = image[bodyLeader[k]];
+        bodyCell[k] = mm_int4(-lead.x, -lead.y, -lead.z, 0);
+        shift[k] = mm_int4(image[k].x-lead.x, image[k].y-lead.y, image[k].z-lead.z, 0);
+    }
+    return shift;
 }
 
 void CommonIntegrateRigidLangevinStepKernel::uploadTypeParameters() {
@@ -204,11 +266,10 @@ void CommonIntegrateRigidLangevinStepKernel::atomsReordered() {
     // particles one again, recentred (class comment), and place them.
     vector<mm_int4> shift;
     bodyShift.download(shift);
-    for (int k = 0; k < numBodies; k++) {
-        bodyCell[k] = mm_int4(bodyCell[k].x-shift[k].x, bodyCell[k].y-shift[k].y, bodyCell[k].z-shift[k].z, 0);
-        shift[k] = mm_int4(0, 0, 0, 0);
-    }
-    bodyShift.upload(shift);
+    vector<mm_int4> image(numBodies);
+    for (int k = 0; k < numBodies; k++)
+        image[k] = mm_int4(shift[k].x-bodyCell[k].x, shift[k].y-bodyCell[k].y, shift[k].z-bodyCell[k].z, 0);
+    bodyShift.upload(recentre(image));
     setBodyCells();
     setBoxArguments();
     placeAtoms();
@@ -226,14 +287,18 @@ void CommonIntegrateRigidLangevinStepKernel::updateAtomSlots() {
     for (int e = 0; e < numEntries; e++)
         entrySlot[e] = slotOfParticle[entryParticle[e]];
     atomSlot.upload(entrySlot);
+    siteSlot.resize(siteParticle.size());
+    for (int i = 0; i < (int) siteParticle.size(); i++)
+        siteSlot[i] = slotOfParticle[siteParticle[i]];
 }
 
 void CommonIntegrateRigidLangevinStepKernel::setBodyCells() {
     vector<mm_int4>& cells = cc.getPosCellOffsets();
-    int entry = 0;
     for (int k = 0; k < numBodies; k++)
-        for (int end = entry+(int) model->getBodyParticles(bodyOrder[k]).size(); entry < end; entry++)
-            cells[entrySlot[entry]] = bodyCell[k];
+        for (int e = hostAtomStart[k]; e < hostAtomStart[k+1]; e++)
+            cells[entrySlot[e]] = bodyCell[k];
+    for (int i = 0; i < (int) siteSlot.size(); i++)
+        cells[siteSlot[i]] = bodyCell[siteLeader[i]];
 }
 
 void CommonIntegrateRigidLangevinStepKernel::setKernelArguments() {
@@ -357,17 +422,15 @@ void CommonIntegrateRigidLangevinStepKernel::initializeMixedArrays(int numTypes,
 template <class Mixed, class Mixed4>
 void CommonIntegrateRigidLangevinStepKernel::uploadStates(const vector<BodyState>& states) {
     vector<Mixed4> position(numBodies), velocity(numBodies), angularMomentum(numBodies), rotation(numBodies);
+    vector<mm_int4> image(numBodies, mm_int4(0, 0, 0, 0));
     Vec3 box[3];
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
     for (int k = 0; k < numBodies; k++) {
         const BodyState& s = states[bodyOrder[k]];
-        // In the box, in double precision, before rounding to the device's; recentred (zero shift).
+        // In the box, in double precision, before rounding to the device's.
         Vec3 r = s.position;
-        bodyCell[k] = mm_int4(0, 0, 0, 0);
-        if (periodic) {
-            mm_int4 image = imageOf(r, box);
-            bodyCell[k] = mm_int4(-image.x, -image.y, -image.z, 0);
-        }
+        if (periodic)
+            image[k] = imageOf(r, box);
         position[k] = Mixed4((Mixed) r[0], (Mixed) r[1], (Mixed) r[2], 0);
         // The rotation's first two rows, packed as the kernels keep them (rigidBodyAtoms.cc).
         velocity[k] = Mixed4((Mixed) s.velocity[0], (Mixed) s.velocity[1], (Mixed) s.velocity[2], (Mixed) s.rotation[1][1]);
@@ -376,7 +439,7 @@ void CommonIntegrateRigidLangevinStepKernel::uploadStates(const vector<BodyState
         rotation[k] = Mixed4((Mixed) s.rotation[0][0], (Mixed) s.rotation[0][1], (Mixed) s.rotation[0][2], (Mixed) s.rotation[1][0]);
     }
     bodyPosition.upload(position);
-    bodyShift.upload(vector<mm_int4>(numBodies, mm_int4(0, 0, 0, 0)));
+    bodyShift.upload(recentre(image));
     bodyVelocity.upload(velocity);
     bodyAngularMomentum.upload(angularMomentum);
     bodyRotation.upload(rotation);

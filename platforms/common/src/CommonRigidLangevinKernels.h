@@ -32,9 +32,13 @@ namespace RigidLangevinPlugin {
  * set here (OpenMM's own is per molecule, and bodies need not be molecules to it): particle p of
  * body b is stored at the stored centre + Q^T c_p + shift_b (whole boxes), and OpenMM reads its
  * true position as that minus cell_b, so the step reads one int4 per body rather than one per
- * particle. Whenever states are set and whenever OpenMM reorders atoms (which is when it wraps
- * molecules), each body is recentred: cell_b = -(shift_b - cell_b), shift_b = 0, and its
- * particles are placed again, so that stored positions stay near the box, as OpenMM keeps them.
+ * particle; the boxes the stored centre is short of the true one are shift_b - cell_b. Whenever
+ * states are set and whenever OpenMM reorders atoms (which is when it wraps molecules), bodies
+ * are recentred and their particles placed again, so that stored positions stay near the box, as
+ * OpenMM keeps them: cell_b = -image_b, shift_b = 0. A virtual site outside every body is computed
+ * by OpenMM from its parents' stored positions, so bodies holding parents of one such site form a
+ * group that shares one cell offset, its first body's (the others keep a shift), and so does the
+ * site.
  */
 class CommonIntegrateRigidLangevinStepKernel : public RigidLangevinStepKernelBase {
 public:
@@ -55,8 +59,12 @@ private:
     void atomsReordered();
     /** Find where each body particle is stored now. */
     void updateAtomSlots();
-    /** Set bodyCell as every particle's cell offset in OpenMM's posCellOffsets. */
+    /** Set bodyCell as every particle's cell offset in OpenMM's posCellOffsets, and the group's for sites outside bodies. */
     void setBodyCells();
+    /** Group the bodies that hold parents of one virtual site outside every body (class comment). */
+    void linkBodiesThroughSites(const OpenMM::System& system);
+    /** Set bodyCell for bodies whose true centres are image boxes beyond their stored ones; returns their shifts. */
+    std::vector<OpenMM::mm_int4> recentre(const std::vector<OpenMM::mm_int4>& image);
     void setKernelArguments();
     void setStepArguments(std::vector<OpenMM::ComputeKernel>& kernels);
     /** The step kernels of a scheme (one per step group), compiled and given their arguments on first use. */
@@ -87,6 +95,9 @@ private:
     std::vector<OpenMM::mm_int4> hostTypeInfo;  // per type: first index in typeCoords, numRotations, halfSteps, friction class
     OpenMM::ComputeArray bodyPosition, bodyVelocity, bodyAngularMomentum, bodyRotation, bodyType, bodyAtomStart;
     std::vector<OpenMM::mm_int4> bodyCell;  // per body: the cell offset OpenMM holds for each of its particles
+    std::vector<int> hostAtomStart;      // bodyAtomStart's host copy
+    std::vector<int> bodyLeader;         // per body: the first body of its group (linkBodiesThroughSites)
+    std::vector<int> siteParticle, siteLeader, siteSlot;  // virtual sites outside bodies whose parents are in one: group, where stored
     OpenMM::ComputeArray atomSlot, typeCoords;
     OpenMM::ComputeArray bodyShift;      // int4 per body: the whole boxes its particles are stored shifted by (class comment)
     OpenMM::ComputeArray typeParams, typeInfo, centerOfMassVelocity, kineticEnergies;
