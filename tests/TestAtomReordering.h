@@ -17,6 +17,7 @@
  * take their shapes from the positions the platform holds.
  */
 #include "RigidBodyTestUtilities.h"
+#include "openmm/HarmonicBondForce.h"
 #include "openmm/NonbondedForce.h"
 #include "openmm/VirtualSite.h"
 #include <gtest/gtest.h>
@@ -138,15 +139,19 @@ TEST_P(AtomReordering, BodiesStayWholeAndFollowReference) {
 }
 
 /*
- * Virtual sites outside every body, computed by OpenMM from parents in bodies: the plugin stores
- * each body's particles in the frame of one cell offset of its own (CommonRigidLangevinKernels.h),
- * and OpenMM reports a site's position as its stored one less its own cell offset. 27 three-particle
- * waters straddling the box faces, each with its M site left out of its body, and nine sites midway
- * between the oxygens of two bodies; at 300 K over 600 steps (two reorderings) bodies cross the
- * faces. Every site must be where its definition puts it from its parents' reported positions: a
- * site stored in another frame than its parents would be off by a box vector (2.4 nm).
+ * What links particles of different bodies, or a body and a particle outside every body, must see
+ * them in one periodic frame: OpenMM computes a virtual site from its parents' stored positions and
+ * a bond without periodic boundaries from its ends' stored positions, and keeps each molecule (atoms
+ * linked by bonds, constraints or sites) in one frame when it wraps atoms; bodies must not split
+ * that frame. 27 three-particle waters straddling the box faces, each with its M site left out of
+ * its body; nine sites midway between the oxygens of two bodies; nine bonds between the oxygens of
+ * two other bodies, and one to a massless particle in no body, which stays put. At 300 K over 600
+ * steps (two reorderings) bodies cross the faces. Every site must be where its definition puts it
+ * from its parents' reported positions, and the bonds' energy on the platform must be the one the
+ * reported positions give: a particle stored in another frame than its partners would be off by a
+ * box vector (2.4 nm), and a bond's energy by orders of magnitude.
  */
-TEST_P(AtomReordering, SitesOutsideBodiesFollowTheirParents) {
+TEST_P(AtomReordering, ParticlesLinkedAcrossBodiesStayInOneFrame) {
     const PlatformConfig& config = GetParam();
     System system;
     system.setDefaultPeriodicBoxVectors(Vec3(BoxSize, 0, 0), Vec3(0, BoxSize, 0), Vec3(0, 0, BoxSize));
@@ -184,6 +189,15 @@ TEST_P(AtomReordering, SitesOutsideBodiesFollowTheirParents) {
         system.setVirtualSite(link, new TwoParticleAverageSite(oxygens[i], oxygens[i+9], 0.5, 0.5));
         sites.push_back(link);
     }
+    HarmonicBondForce* bonds = new HarmonicBondForce();
+    bonds->setForceGroup(1);
+    for (int i = 9; i < 18; i++)
+        bonds->addBond(oxygens[i], oxygens[i+9], 0.8, 50.0);
+    int anchor = system.addParticle(0.0);
+    nb->addParticle(0.0, 1.0, 0.0);
+    positions.push_back(Vec3(2.37, 2.35, 0.3));
+    bonds->addBond(anchor, oxygens[26], 0.3, 50.0);
+    system.addForce(bonds);
     std::unique_ptr<Context> context(createContext(system, integrator, config));
     context->setPositions(positions);
     context->computeVirtualSites();
@@ -205,7 +219,20 @@ TEST_P(AtomReordering, SitesOutsideBodiesFollowTheirParents) {
         moved = std::max(moved, std::sqrt((result[o]-positions[o]).dot(result[o]-positions[o])));
     std::cout << config.name() << ": largest distance of a site from where its parents put it " << worst << " nm; oxygens moved up to " << moved << " nm" << std::endl;
     EXPECT_LT(worst, config.precision == "double" ? 1e-9 : 1e-5);  // mixed: OpenMM computes sites from float positions
-    EXPECT_GT(moved, 0.1);  // far enough for bodies to have crossed the faces they straddled
+    EXPECT_GT(moved, 0.1);
+    double energy = 0;
+    for (int b = 0; b < bonds->getNumBonds(); b++) {
+        int i, j;
+        double length, k;
+        bonds->getBondParameters(b, i, j, length, k);
+        double r = std::sqrt((result[i]-result[j]).dot(result[i]-result[j]));
+        energy += 0.5*k*(r-length)*(r-length);
+    }
+    double platformEnergy = context->getState(State::Energy, false, 1<<1).getPotentialEnergy();
+    std::cout << config.name() << ": bond energy " << platformEnergy << " kJ/mol, from the reported positions " << energy << std::endl;
+    // (A bond stretched by a box vector would add ~140 kJ/mol; a GPU sums energies in its own order.)
+    EXPECT_NEAR(energy, platformEnergy, (config.precision == "double" ? 1e-6 : 1e-4)*std::max(1.0, energy));
+    EXPECT_LT(std::sqrt((result[anchor]-positions[anchor]).dot(result[anchor]-positions[anchor])), config.precision == "double" ? 1e-12 : 1e-6);  // far enough for bodies to have crossed the faces they straddled
 }
 
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(AtomReordering);

@@ -224,11 +224,12 @@ def test_traffic_model_bounds_and_matches_the_gpu_profiles():
         for n in traffic.PARTICLES:
             assert sum(traffic.common_current(n, precision).values()) > traffic.common_minimum(n, precision)[0]
             assert sum(traffic.common_before(n, precision).values()) > sum(traffic.common_current(n, precision).values())
-            # In a periodic box a step reads one shift per body, no longer a cell offset per particle.
+            # A periodic box adds the body's image and each particle's cell offset, to the step and the layout.
             periodic = sum(traffic.common_current(n, precision, periodic=True).values())
-            assert periodic-sum(traffic.common_current(n, precision).values()) == traffic.INT4
-            assert sum(traffic.common_cell_offsets(n, precision, periodic=True).values())-periodic == n*traffic.INT4
-            assert traffic.common_layout_minimum(n, precision) >= sum(traffic.common_minimum(n, precision))
+            assert periodic-sum(traffic.common_current(n, precision).values()) == (n+1)*traffic.INT4
+            layout = traffic.common_layout_minimum(n, precision)
+            assert layout >= sum(traffic.common_minimum(n, precision))
+            assert traffic.common_layout_minimum(n, precision, periodic=True)-layout == n*traffic.INT4
     for n in traffic.PARTICLES:
         assert traffic.cpu_current(n) > traffic.cpu_minimum(n)[0]
         # A body that does not rotate moves neither a rotation nor an angular momentum (2 x 96 bytes).

@@ -72,22 +72,16 @@ def common_current(n, precision, periodic=False):
     """Bytes per body-step of the common step kernel as written (ExactFlow): one pass per body that
     steps it and places its particles, making its random numbers itself (rigidBodyRandom.cc).
     Body-frame coordinates, with the inverse masses written to velm.w, are read per type (from
-    cache); in a periodic box the body's shift (one int4: every particle of a body has the same
-    cell offset, CommonRigidLangevinKernels.h), not read without one (integrator_cost.py's bodies
-    are not in a box); a body that does not rotate neither reads nor writes an angular momentum;
-    the rotation's first two rows fill one mixed4 and the w of velocity and angular momentum."""
+    cache); the body's periodic image and its particles' cell offsets only in a periodic box
+    (integrator_cost.py's bodies are not in one); a body that does not rotate neither reads nor
+    writes an angular momentum; the rotation's first two rows fill one mixed4 and the w of velocity
+    and angular momentum."""
     m, r = PRECISIONS[precision]
-    step = (INT+INT+(INT4 if periodic else 0)         # bodyType, bodyAtomStart, bodyShift
+    step = (INT+INT+(INT4 if periodic else 0)         # bodyType, bodyAtomStart, bodyImage
             + _body_state(n, precision, points_move_angular_momentum=False, rotation_mixed4=1)
             + n*(INT+FORCE)                           # atomSlot, force
-            + _particle_placement(n, precision, reads_velm=False, reads_cell_offsets=False))
+            + _particle_placement(n, precision, reads_velm=False, reads_cell_offsets=periodic))
     return {'step': step}
-
-
-def common_cell_offsets(n, precision, periodic=False):
-    """The kernels of commits b9f060f to aef7a69: today's, but reading each particle's own cell
-    offset in a periodic box (the kernels up to b9f060f, profiled on the H200, read them in any box)."""
-    return {'step': common_current(n, precision, periodic)['step']+(n*INT4 if periodic else 0)}
 
 
 def common_h200(n, precision):
@@ -129,14 +123,16 @@ def common_minimum(n, precision):
     return state+particles, n*4*m
 
 
-def common_layout_minimum(n, precision):
+def common_layout_minimum(n, precision, periodic=False):
     """The minimum within OpenMM's arrays: particle velocities written (a State reads velm, and OpenMM
-    gives an integrator no hook to make them on demand), and posq read, since its w holds the charge,
-    which other forces own and may change (NonbondedForce's parameter offsets do every step); writing
-    x, y and z alone would leave a partial sector, which memory with ECC reads to update its check bits."""
+    gives an integrator no hook to make them on demand); posq read, since its w holds the charge,
+    which other forces own and may change (NonbondedForce's parameter offsets do every step; writing
+    x, y and z alone would leave a partial sector, which memory with ECC reads to update its check
+    bits); and in a periodic box each particle's cell offset, which OpenMM sets per molecule (atoms
+    linked by bonds, constraints or virtual sites), not per body."""
     m, r = PRECISIONS[precision]
     minimum, velocities = common_minimum(n, precision)
-    return minimum+velocities+n*4*r
+    return minimum+velocities+n*4*r+(n*INT4 if periodic else 0)
 
 
 def cpu_current(n):
@@ -226,20 +222,20 @@ def main(argv=None):
             rows.append({'platform': 'OpenCL/CUDA', 'precision': precision, 'particles': n, 'minimum': minimum,
                          'particle velocities': velocities, 'layout minimum': common_layout_minimum(n, precision),
                          'before': sum(common_before(n, precision).values()), 'current': sum(common_current(n, precision).values()),
-                         'periodic, cell offsets': sum(common_cell_offsets(n, precision, periodic=True).values()),
-                         'current, periodic': sum(common_current(n, precision, periodic=True).values())})
+                         'current, periodic': sum(common_current(n, precision, periodic=True).values()),
+                         'layout minimum, periodic': common_layout_minimum(n, precision, periodic=True)})
     for n in PARTICLES:
         minimum, velocities = cpu_minimum(n)
         rows.append({'platform': 'CPU', 'precision': 'double', 'particles': n, 'minimum': minimum, 'particle velocities': velocities,
                      'layout minimum': minimum+velocities, 'before': cpu_before(n), 'current': cpu_current(n),
-                     'periodic, cell offsets': cpu_before(n), 'current, periodic': cpu_current(n)})
+                     'current, periodic': cpu_current(n), 'layout minimum, periodic': minimum+velocities})
     for r in rows:
         r['current/minimum'] = r['current']/r['minimum']
         r['current/layout minimum'] = r['current']/r['layout minimum']
         r['current, periodic/minimum'] = r['current, periodic']/r['minimum']
-        r['current, periodic/layout minimum'] = r['current, periodic']/r['layout minimum']
+        r['current, periodic/layout minimum'] = r['current, periodic']/r['layout minimum, periodic']
     fields = ['platform', 'precision', 'particles', 'minimum', 'particle velocities', 'layout minimum', 'before', 'current',
-              'current/minimum', 'current/layout minimum', 'periodic, cell offsets', 'current, periodic', 'current, periodic/minimum',
+              'current/minimum', 'current/layout minimum', 'current, periodic', 'layout minimum, periodic', 'current, periodic/minimum',
               'current, periodic/layout minimum']
     with open(os.path.join(RESULTS, 'traffic.csv'), 'w', newline='') as f:
         writer = csv.DictWriter(f, fieldnames=fields)
@@ -252,20 +248,22 @@ def main(argv=None):
              'what writing them every step adds; "OpenMM\'s layout": the minimum with particle velocities written (a State '
              'reads them from OpenMM\'s array, and OpenMM gives an integrator no hook to make them on demand) and, on the '
              'common platforms, posq read as well as written (its w is the charge, which other forces own and may change '
-             'at any step). "before": the kernels of commit 61978fa on the common platforms (a step kernel, then a particle '
+             'at any step) and, in a periodic box, each particle\'s cell offset (OpenMM wraps molecules, not bodies). '
+             '"before": the kernels of commit 61978fa on the common platforms (a step kernel, then a particle '
              'placement kernel) and of aef7a69 on the CPU; "today": what the step kernel moves as written now (common: one '
              'pass per body that steps it, places its particles and makes its random numbers; body-frame coordinates per '
              'type, with the inverse masses it writes to velm.w; the rotation\'s first two rows in one mixed4 and the w of '
              'velocity and angular momentum; no angular momentum for a body that does not rotate; no periodic box, as in '
-             'integrator_cost.py). "periodic box": the same in a periodic box, where a step also reads the body\'s shift '
-             '(16 bytes); until aef7a69 it also read each particle\'s cell offset (16 bytes each: "periodic, cell offsets").', '',
+             'integrator_cost.py; CPU: no rotation or angular momentum for a body that does not rotate). "periodic box": '
+             'the same in a periodic box, where a step also reads the body\'s image and each particle\'s cell offset '
+             '(16 bytes each).', '',
              '| platform | precision | particles | minimum | + particle velocities | OpenMM\'s layout | before | today | '
-             'today / minimum | today / layout | periodic, cell offsets | periodic box | periodic / minimum | periodic / layout |',
-             '|---|---|---|---|---|---|---|---|---|---|---|---|---|---|']
+             'today / minimum | today / layout | periodic box | periodic / minimum | periodic / layout |',
+             '|---|---|---|---|---|---|---|---|---|---|---|---|---|']
     for r in rows:
         lines.append(f"| {r['platform']} | {r['precision']} | {r['particles']} | {r['minimum']} | {r['particle velocities']} | "
                      f"{r['layout minimum']} | {r['before']} | {r['current']} | {r['current/minimum']:.2f} | "
-                     f"{r['current/layout minimum']:.2f} | {r['periodic, cell offsets']} | {r['current, periodic']} | "
+                     f"{r['current/layout minimum']:.2f} | {r['current, periodic']} | "
                      f"{r['current, periodic/minimum']:.2f} | {r['current, periodic/layout minimum']:.2f} |")
 
     measured = [(label, profile_rows(path), precision, kernels) for label, path, precision, kernels in PROFILES]

@@ -3,7 +3,6 @@
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ContextSelector.h"
 #include "openmm/common/IntegrationUtilities.h"
-#include "openmm/VirtualSite.h"
 #include "openmm/internal/ContextImpl.h"
 #include <algorithm>
 #include <map>
@@ -21,11 +20,11 @@ namespace {
 /** Arguments of the step kernels set at every step (the seed: when a checkpoint is loaded; the others are fixed). */
 enum StepArgument {
     StepFirst = 0, StepLast = 1, StepFrictionless = 2, StepSize = 3, StepRemoveMotion = 4,
-    StepRandomSeed = 16, StepRandomStep = 17, StepRandomPerBody = 18, StepBox = 21
+    StepRandomSeed = 17, StepRandomStep = 18, StepRandomPerBody = 19, StepBox = 22
 };
 
 /** The first periodic box vector argument of placeBodyAtoms. */
-const int PlaceBox = 15;
+const int PlaceBox = 16;
 
 /** Whole boxes to subtract from r to bring it into the periodic box of reduced vectors a, b, c (as keepInBox does). */
 mm_int4 imageOf(Vec3& r, const Vec3* box) {
@@ -73,14 +72,14 @@ public:
     explicit AtomOrderListener(CommonIntegrateRigidLangevinStepKernel& owner) : owner(owner) {
     }
     void execute() {
-        owner.atomsReordered();
+        owner.updateAtomSlots();
     }
 private:
     CommonIntegrateRigidLangevinStepKernel& owner;
 };
 
 CommonIntegrateRigidLangevinStepKernel::CommonIntegrateRigidLangevinStepKernel(string name, const Platform& platform, ComputeContext& cc) :
-        RigidLangevinStepKernelBase(name, platform), cc(cc), mixedIsDouble(false), hasSetArguments(false), periodic(false), hasStates(false), numBodies(0), numEntries(0),
+        RigidLangevinStepKernelBase(name, platform), cc(cc), mixedIsDouble(false), hasSetArguments(false), periodic(false), numBodies(0), numEntries(0),
         numReductionGroups(1), randomSeed(0), randomStep(0) {
 }
 
@@ -154,7 +153,6 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
         }
     }
     atomStart[numBodies] = numEntries;
-    hostAtomStart = atomStart;
     numReductionGroups = std::max(1, std::min(cc.getNumThreadBlocks(), (numBodies+ReductionGroupSize-1)/ReductionGroupSize));
 
     if (mixedIsDouble)
@@ -164,9 +162,8 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
     initializeArray<int>(bodyType, cc, numBodies, "rigidBodyType");
     initializeArray<int>(bodyAtomStart, cc, numBodies+1, "rigidBodyAtomStart");
     initializeArray<int>(atomSlot, cc, numEntries, "rigidBodyAtomSlot");
-    initializeArray<mm_int4>(bodyShift, cc, numBodies, "rigidBodyShift");
-    bodyCell.assign(numBodies, mm_int4(0, 0, 0, 0));
-    hasStates = false;
+    initializeArray<mm_int4>(atomCellOffset, cc, numEntries, "rigidBodyAtomCellOffset");
+    initializeArray<mm_int4>(bodyImage, cc, numBodies, "rigidBodyImage");
     initializeArray<mm_int4>(typeInfo, cc, model.getNumTypes(), "rigidBodyTypeInfo");
     if (numBodies > 0) {
         bodyType.upload(types);
@@ -188,91 +185,13 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& conte
         hostTypeInfo[t] = mm_int4(coordStart[t], type.numRotations, 0, (int) type.frictionClass);
     }
     uploadTypeParameters();
-    linkBodiesThroughSites(context.getSystem());
     updateAtomSlots();
     setKernelArguments();
-}
-
-void CommonIntegrateRigidLangevinStepKernel::linkBodiesThroughSites(const System& system) {
-    // Bodies whose particles are parents of one virtual site outside every body form a group with
-    // one cell offset, the site's: OpenMM computes the site from its parents' stored positions, so
-    // they must be stored in one frame (union-find, each group led by its first body).
-    vector<int> entryBody(numEntries);
-    for (int k = 0; k < numBodies; k++)
-        for (int e = hostAtomStart[k]; e < hostAtomStart[k+1]; e++)
-            entryBody[e] = k;
-    vector<int> bodyOfParticle(system.getNumParticles(), -1);
-    for (int e = 0; e < numEntries; e++)
-        bodyOfParticle[entryParticle[e]] = entryBody[e];
-    bodyLeader.resize(numBodies);
-    std::iota(bodyLeader.begin(), bodyLeader.end(), 0);
-    auto leader = [&] (int k) {
-        while (bodyLeader[k] != k)
-            k = bodyLeader[k] = bodyLeader[bodyLeader[k]];
-        return k;
-    };
-    siteParticle.clear();
-    vector<int> siteBody;
-    for (int p = 0; p < system.getNumParticles(); p++) {
-        if (!system.isVirtualSite(p) || bodyOfParticle[p] != -1)
-            continue;
-        const VirtualSite& site = system.getVirtualSite(p);
-        int first = -1;
-        for (int i = 0; i < site.getNumParticles(); i++) {
-            int k = bodyOfParticle[site.getParticle(i)];
-            if (k == -1)
-                continue;  // a massless particle in no body: OpenMM keeps its cell offset
-            if (first == -1)
-                first = k;
-            else {
-                int a = leader(first), b = leader(k);
-                bodyLeader[std::max(a, b)] = std::min(a, b);
-            }
-        }
-        if (first != -1) {
-            siteParticle.push_back(p);
-            siteBody.push_back(first);
-        }
-    }
-    for (int k = 0; k < numBodies; k++)
-        bodyLeader[k] = leader(k);
-    siteLeader.resize(siteBody.size());
-    for (int i = 0; i < (int) siteBody.size(); i++)
-        siteLeader[i] = bodyLeader[siteBody[i]];
-}
-
-vector<mm_int4> CommonIntegrateRigidLangevinStepKernel::recentre(const vector<mm_int4>& image) {
-    // A group's leader gets no shift; the other bodies share its cell offset (class comment).
-    vector<mm_int4> shift(numBodies);
-    for (int k = 0; k < numBodies; k++) {
-        const mm_int4& lead = image[bodyLeader[k]];
-        bodyCell[k] = mm_int4(-lead.x, -lead.y, -lead.z, 0);
-        shift[k] = mm_int4(image[k].x-lead.x, image[k].y-lead.y, image[k].z-lead.z, 0);
-    }
-    return shift;
 }
 
 void CommonIntegrateRigidLangevinStepKernel::uploadTypeParameters() {
     typeParams.upload(hostTypeParams, true);
     typeInfo.upload(hostTypeInfo);
-}
-
-void CommonIntegrateRigidLangevinStepKernel::atomsReordered() {
-    ContextSelector selector(cc);
-    updateAtomSlots();
-    if (!periodic || !hasStates)
-        return;
-    // OpenMM has wrapped molecules, setting their particles' cell offsets: give each body's
-    // particles one again, recentred (class comment), and place them.
-    vector<mm_int4> shift;
-    bodyShift.download(shift);
-    vector<mm_int4> image(numBodies);
-    for (int k = 0; k < numBodies; k++)
-        image[k] = mm_int4(shift[k].x-bodyCell[k].x, shift[k].y-bodyCell[k].y, shift[k].z-bodyCell[k].z, 0);
-    bodyShift.upload(recentre(image));
-    setBodyCells();
-    setBoxArguments();
-    placeAtoms();
 }
 
 void CommonIntegrateRigidLangevinStepKernel::updateAtomSlots() {
@@ -283,22 +202,15 @@ void CommonIntegrateRigidLangevinStepKernel::updateAtomSlots() {
     vector<int> slotOfParticle(order.size());
     for (int slot = 0; slot < (int) order.size(); slot++)
         slotOfParticle[order[slot]] = slot;
-    entrySlot.resize(numEntries);
-    for (int e = 0; e < numEntries; e++)
-        entrySlot[e] = slotOfParticle[entryParticle[e]];
-    atomSlot.upload(entrySlot);
-    siteSlot.resize(siteParticle.size());
-    for (int i = 0; i < (int) siteParticle.size(); i++)
-        siteSlot[i] = slotOfParticle[siteParticle[i]];
-}
-
-void CommonIntegrateRigidLangevinStepKernel::setBodyCells() {
-    vector<mm_int4>& cells = cc.getPosCellOffsets();
-    for (int k = 0; k < numBodies; k++)
-        for (int e = hostAtomStart[k]; e < hostAtomStart[k+1]; e++)
-            cells[entrySlot[e]] = bodyCell[k];
-    for (int i = 0; i < (int) siteSlot.size(); i++)
-        cells[siteSlot[i]] = bodyCell[siteLeader[i]];
+    const vector<mm_int4>& cellOffsets = cc.getPosCellOffsets();
+    vector<int> slots(numEntries);
+    vector<mm_int4> cells(numEntries);
+    for (int e = 0; e < numEntries; e++) {
+        slots[e] = slotOfParticle[entryParticle[e]];
+        cells[e] = cellOffsets[slots[e]];
+    }
+    atomSlot.upload(slots);
+    atomCellOffset.upload(cells);
 }
 
 void CommonIntegrateRigidLangevinStepKernel::setKernelArguments() {
@@ -315,10 +227,11 @@ void CommonIntegrateRigidLangevinStepKernel::setKernelArguments() {
     placeKernel->addArg(bodyType);
     placeKernel->addArg(typeParams);
     placeKernel->addArg(typeInfo);
-    placeKernel->addArg(bodyShift);
+    placeKernel->addArg(bodyImage);
     placeKernel->addArg(bodyAtomStart);
     placeKernel->addArg(atomSlot);
     placeKernel->addArg(typeCoords);
+    placeKernel->addArg(atomCellOffset);
     placeKernel->addArg(cc.getPosq());
     // Written only in mixed precision; posq stands in for it otherwise.
     placeKernel->addArg(cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq());
@@ -358,6 +271,7 @@ void CommonIntegrateRigidLangevinStepKernel::setStepArguments(vector<ComputeKern
         kernel->addArg(bodyAtomStart);
         kernel->addArg(atomSlot);
         kernel->addArg(typeCoords);
+        kernel->addArg(atomCellOffset);
         kernel->addArg(cc.getLongForceBuffer());
         kernel->addArg(typeParams);
         kernel->addArg(typeInfo);
@@ -368,7 +282,7 @@ void CommonIntegrateRigidLangevinStepKernel::setStepArguments(vector<ComputeKern
         kernel->addArg(periodic ? 1 : 0);
         for (int i = 0; i < 3; i++)
             kernel->addArg();  // periodic box vectors
-        kernel->addArg(bodyShift);
+        kernel->addArg(bodyImage);
         kernel->addArg(cc.getPosq());
         kernel->addArg(cc.getUseMixedPrecision() ? cc.getPosqCorrection() : cc.getPosq());
         kernel->addArg(cc.getVelm());
@@ -439,7 +353,7 @@ void CommonIntegrateRigidLangevinStepKernel::uploadStates(const vector<BodyState
         rotation[k] = Mixed4((Mixed) s.rotation[0][0], (Mixed) s.rotation[0][1], (Mixed) s.rotation[0][2], (Mixed) s.rotation[1][0]);
     }
     bodyPosition.upload(position);
-    bodyShift.upload(recentre(image));
+    bodyImage.upload(image);
     bodyVelocity.upload(velocity);
     bodyAngularMomentum.upload(angularMomentum);
     bodyRotation.upload(rotation);
@@ -452,16 +366,14 @@ void CommonIntegrateRigidLangevinStepKernel::downloadStates(vector<BodyState>& s
     bodyVelocity.download(velocity);
     bodyAngularMomentum.download(angularMomentum);
     bodyRotation.download(rotation);
-    vector<mm_int4> shift;
-    bodyShift.download(shift);
+    vector<mm_int4> image;
+    bodyImage.download(image);
     Vec3 box[3];
     cc.getPeriodicBoxVectors(box[0], box[1], box[2]);
     states.resize(numBodies);
     for (int k = 0; k < numBodies; k++) {
         BodyState& s = states[bodyOrder[k]];
-        // The boxes the stored centre is short of the true one (class comment).
-        mm_int4 image(shift[k].x-bodyCell[k].x, shift[k].y-bodyCell[k].y, shift[k].z-bodyCell[k].z, 0);
-        s.position = Vec3(position[k].x, position[k].y, position[k].z)+box[0]*image.x+box[1]*image.y+box[2]*image.z;
+        s.position = Vec3(position[k].x, position[k].y, position[k].z)+box[0]*image[k].x+box[1]*image[k].y+box[2]*image[k].z;
         s.velocity = Vec3(velocity[k].x, velocity[k].y, velocity[k].z);
         s.angularMomentum = Vec3(angularMomentum[k].x, angularMomentum[k].y, angularMomentum[k].z);
         // The first two rows as the kernels keep them; the third is their cross product.
@@ -483,9 +395,8 @@ void CommonIntegrateRigidLangevinStepKernel::uploadBodyStates(ContextImpl& conte
         uploadStates<double, mm_double4>(states);
     else
         uploadStates<float, mm_float4>(states);
+    // Setting positions may have changed the cell offsets without reordering atoms.
     updateAtomSlots();
-    setBodyCells();
-    hasStates = true;
     setBoxArguments();
     placeAtoms();
 }

@@ -26,19 +26,7 @@ namespace RigidLangevinPlugin {
  * Body states are kept in the platform's "mixed" precision (double in mixed and double precision);
  * rotations are made orthonormal whenever read (rigidBodyAtoms.cc), so that rounding cannot
  * accumulate in single precision. When OpenMM reorders atoms (for its neighbour lists), a reorder
- * listener updates where each body's particles are stored.
- *
- * In a periodic box every particle of a body has the same cell offset in OpenMM's posCellOffsets,
- * set here (OpenMM's own is per molecule, and bodies need not be molecules to it): particle p of
- * body b is stored at the stored centre + Q^T c_p + shift_b (whole boxes), and OpenMM reads its
- * true position as that minus cell_b, so the step reads one int4 per body rather than one per
- * particle; the boxes the stored centre is short of the true one are shift_b - cell_b. Whenever
- * states are set and whenever OpenMM reorders atoms (which is when it wraps molecules), bodies
- * are recentred and their particles placed again, so that stored positions stay near the box, as
- * OpenMM keeps them: cell_b = -image_b, shift_b = 0. A virtual site outside every body is computed
- * by OpenMM from its parents' stored positions, so bodies holding parents of one such site form a
- * group that shares one cell offset, its first body's (the others keep a shift), and so does the
- * site.
+ * listener updates where each body's particles are stored and their periodic cell offsets.
  */
 class CommonIntegrateRigidLangevinStepKernel : public RigidLangevinStepKernelBase {
 public:
@@ -55,16 +43,8 @@ protected:
     void loadRandomCheckpoint(std::istream& stream);
 private:
     class AtomOrderListener;
-    /** Find where each body particle is stored now; in a periodic box, recentre bodies whose states are set. */
-    void atomsReordered();
-    /** Find where each body particle is stored now. */
+    /** Find where each body particle is stored now, and its periodic cell offset. */
     void updateAtomSlots();
-    /** Set bodyCell as every particle's cell offset in OpenMM's posCellOffsets, and the group's for sites outside bodies. */
-    void setBodyCells();
-    /** Group the bodies that hold parents of one virtual site outside every body (class comment). */
-    void linkBodiesThroughSites(const OpenMM::System& system);
-    /** Set bodyCell for bodies whose true centres are image boxes beyond their stored ones; returns their shifts. */
-    std::vector<OpenMM::mm_int4> recentre(const std::vector<OpenMM::mm_int4>& image);
     void setKernelArguments();
     void setStepArguments(std::vector<OpenMM::ComputeKernel>& kernels);
     /** The step kernels of a scheme (one per step group), compiled and given their arguments on first use. */
@@ -83,23 +63,18 @@ private:
     OpenMM::ComputeContext& cc;
     /** Set the periodic box vectors (and whether there is a box) as arguments of the kernels that take them. */
     void setBoxArguments();
-    bool mixedIsDouble, hasSetArguments, periodic, hasStates;
+    bool mixedIsDouble, hasSetArguments, periodic;
     int numBodies, numEntries, numReductionGroups;
     unsigned int randomSeed;             // the random numbers' key
     unsigned long long randomStep;       // the counter's step: steps taken since the Context was made (or the checkpoint was)
     std::vector<int> groupStart;         // kernel body range of each step group (RigidBodyKernelLayout)
     std::vector<int> bodyOrder;          // kernel body index -> model body index
     std::vector<int> entryParticle;      // body particle entry -> System particle index
-    std::vector<int> entrySlot;          // body particle entry -> where OpenMM stores it now (atomSlot's host copy)
     std::vector<double> hostTypeParams;  // TypeStride values per type, in double precision
     std::vector<OpenMM::mm_int4> hostTypeInfo;  // per type: first index in typeCoords, numRotations, halfSteps, friction class
     OpenMM::ComputeArray bodyPosition, bodyVelocity, bodyAngularMomentum, bodyRotation, bodyType, bodyAtomStart;
-    std::vector<OpenMM::mm_int4> bodyCell;  // per body: the cell offset OpenMM holds for each of its particles
-    std::vector<int> hostAtomStart;      // bodyAtomStart's host copy
-    std::vector<int> bodyLeader;         // per body: the first body of its group (linkBodiesThroughSites)
-    std::vector<int> siteParticle, siteLeader, siteSlot;  // virtual sites outside bodies whose parents are in one: group, where stored
-    OpenMM::ComputeArray atomSlot, typeCoords;
-    OpenMM::ComputeArray bodyShift;      // int4 per body: the whole boxes its particles are stored shifted by (class comment)
+    OpenMM::ComputeArray atomSlot, atomCellOffset, typeCoords;
+    OpenMM::ComputeArray bodyImage;      // int4 per body: the periodic boxes its stored centre is short of the true one
     OpenMM::ComputeArray typeParams, typeInfo, centerOfMassVelocity, kineticEnergies;
     std::map<int, std::vector<OpenMM::ComputeKernel> > stepKernels;  // per scheme: one per step group
     OpenMM::ComputeKernel placeKernel, centerOfMassKernel, kineticEnergyKernel;

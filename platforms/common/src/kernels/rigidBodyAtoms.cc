@@ -85,12 +85,12 @@ DEVICE void loadBodyForce(int body, int numRotations, const mixed* q, GLOBAL con
 }
 
 /**
- * Keep a body's centre in the periodic box, so that single precision resolves it as well after any
- * diffusion as at the start, adding the boxes it has left to shift (the true centre moved by
- * shift.x a + shift.y b + shift.z c relative to r; OpenMM's reduced box vectors a, b, c). Returns
- * whether the shift changed (the caller writes it back only then).
+ * Keep a body's centre in the periodic box, counting the boxes it has left in image, so that single
+ * precision resolves it as well after any diffusion as at the start: its true position is r plus
+ * image.x a + image.y b + image.z c (OpenMM's reduced box vectors a, b, c). Returns whether the
+ * image changed (the caller writes it back only then).
  */
-DEVICE bool keepInBox(mixed* r, int4* shift, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ) {
+DEVICE bool keepInBox(mixed* r, int4* image, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ) {
     int sz = (int) floor(r[2]/boxVecZ.z);
     r[0] -= sz*boxVecZ.x;
     r[1] -= sz*boxVecZ.y;
@@ -102,33 +102,30 @@ DEVICE bool keepInBox(mixed* r, int4* shift, mixed4 boxVecX, mixed4 boxVecY, mix
     r[0] -= sx*boxVecX.x;
     if (sx == 0 && sy == 0 && sz == 0)
         return false;
-    *shift = make_int4(shift->x+sx, shift->y+sy, shift->z+sz, 0);
+    *image = make_int4(image->x+sx, image->y+sy, image->z+sz, 0);
     return true;
 }
 
 /**
  * Place the particles of one body from its state: r = R + Q^T c and v = V + Q^T (omega x c), with
  * omega the body-frame angular velocity (zero for a body that does not rotate). Positions are
- * stored shifted by the body's shift: whole boxes, added before they meet the coordinates, that
- * keep the stored particles continuous while the stored centre is kept in the box (the host gives
- * every particle of a body the same cell offset in OpenMM's posCellOffsets, so one shift per body
- * says where all of them are; see CommonRigidLangevinKernels.cpp). Charges (posq.w) are left
- * alone; inverse masses (velm.w) are written, as OpenMM set them, from the type's coordinates
- * (their w, where a virtual site's -1 stands for 0), so that velm is not read: the step is bound
- * by memory traffic. q holds the rotation if haveRotation; a body that does not rotate may skip
- * loading it, and it is read here only for a particle off the centre (a massless site of a point
- * body), from the body state as stored. bodyCoords: the body's type's coordinates.
+ * stored shifted by the atom's periodic cell offset, as OpenMM keeps them, and by the boxes the
+ * body has left (image): both are whole boxes, added before they meet the coordinates. Charges
+ * (posq.w) are left alone; inverse masses (velm.w) are written, as OpenMM set them, from the
+ * type's coordinates (their w, where a virtual site's -1 stands for 0), so that velm is not read:
+ * the step is bound by memory traffic. q holds the rotation if haveRotation; a
+ * body that does not rotate may skip loading it, and it is read here only for a particle off the
+ * centre (a massless site of a point body), from the body state as stored. bodyCoords: the body's
+ * type's coordinates. periodic: whether the System has a periodic box (without one the cell offsets
+ * are all zero and are not read).
  */
-DEVICE void placeBodyParticles(int body, int numRotations, int haveRotation, const mixed* q, const mixed* position,
-        const mixed* velocity, const mixed* omega, int4 shift, GLOBAL const mixed4* RESTRICT bodyRotation,
+DEVICE void placeBodyParticles(int body, int numRotations, int haveRotation, int periodic, const mixed* q, const mixed* position,
+        const mixed* velocity, const mixed* omega, int4 image, GLOBAL const mixed4* RESTRICT bodyRotation,
         GLOBAL const mixed4* RESTRICT bodyVelocity, GLOBAL const mixed4* RESTRICT bodyAngularMomentum,
         GLOBAL const int* RESTRICT bodyAtomStart, GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT bodyCoords,
-        GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection,
+        GLOBAL const int4* RESTRICT atomCellOffset, GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection,
         GLOBAL mixed4* RESTRICT velm, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ) {
     int start = bodyAtomStart[body], end = bodyAtomStart[body+1];
-    mixed3 boxes = make_mixed3(shift.x*boxVecX.x+shift.y*boxVecY.x+shift.z*boxVecZ.x,
-                               shift.y*boxVecY.y+shift.z*boxVecZ.y,
-                               shift.z*boxVecZ.z);
     for (int entry = start; entry < end; entry++) {
         mixed c[3], offset[3] = {0, 0, 0};
         loadVector(bodyCoords, entry-start, c);
@@ -140,7 +137,13 @@ DEVICE void placeBodyParticles(int body, int numRotations, int haveRotation, con
             vectorToLabFrame(rotation, c, offset);
         }
         int slot = atomSlot[entry];
-        mixed3 pos = make_mixed3(position[0]+offset[0]+boxes.x, position[1]+offset[1]+boxes.y, position[2]+offset[2]+boxes.z);
+        // Without a periodic box OpenMM never wraps atoms: their cell offsets are zero, and are not read.
+        int4 cell = (periodic ? atomCellOffset[entry] : make_int4(0, 0, 0, 0));
+        cell = make_int4(cell.x+image.x, cell.y+image.y, cell.z+image.z, 0);
+        mixed3 shift = make_mixed3(cell.x*boxVecX.x+cell.y*boxVecY.x+cell.z*boxVecZ.x,
+                                   cell.y*boxVecY.y+cell.z*boxVecZ.y,
+                                   cell.z*boxVecZ.z);
+        mixed3 pos = make_mixed3(position[0]+offset[0]+shift.x, position[1]+offset[1]+shift.y, position[2]+offset[2]+shift.z);
         real4 stored = posq[slot];
 #ifdef USE_MIXED_PRECISION
         posq[slot] = make_real4((real) pos.x, (real) pos.y, (real) pos.z, stored.w);
@@ -176,8 +179,9 @@ DEVICE void angularVelocity(int numRotations, const mixed* angularMomentum, cons
 KERNEL void placeBodyAtoms(int numBodies, GLOBAL const mixed4* RESTRICT bodyPosition, GLOBAL const mixed4* RESTRICT bodyVelocity,
         GLOBAL const mixed4* RESTRICT bodyAngularMomentum, GLOBAL const mixed4* RESTRICT bodyRotation,
         GLOBAL const int* RESTRICT bodyType, GLOBAL const mixed* RESTRICT typeParams, GLOBAL const int4* RESTRICT typeInfo,
-        GLOBAL const int4* RESTRICT bodyShift, GLOBAL const int* RESTRICT bodyAtomStart, GLOBAL const int* RESTRICT atomSlot,
-        GLOBAL const mixed4* RESTRICT typeCoords, GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, GLOBAL mixed4* RESTRICT velm,
+        GLOBAL const int4* RESTRICT bodyImage, GLOBAL const int* RESTRICT bodyAtomStart, GLOBAL const int* RESTRICT atomSlot,
+        GLOBAL const mixed4* RESTRICT typeCoords, GLOBAL const int4* RESTRICT atomCellOffset,
+        GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, GLOBAL mixed4* RESTRICT velm,
         mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ) {
     for (int body = GLOBAL_ID; body < numBodies; body += GLOBAL_SIZE) {
         int type = bodyType[body];
@@ -191,7 +195,8 @@ KERNEL void placeBodyAtoms(int numBodies, GLOBAL const mixed4* RESTRICT bodyPosi
         loadVector(bodyVelocity, body, velocity);
         loadVector(bodyAngularMomentum, body, angularMomentum);
         angularVelocity(numRotations, angularMomentum, inertia, omega);
-        placeBodyParticles(body, numRotations, 1, q, position, velocity, omega, bodyShift[body], bodyRotation, bodyVelocity,
-                bodyAngularMomentum, bodyAtomStart, atomSlot, &typeCoords[info.x], posq, posqCorrection, velm, boxVecX, boxVecY, boxVecZ);
+        placeBodyParticles(body, numRotations, 1, 1, q, position, velocity, omega, bodyImage[body], bodyRotation, bodyVelocity,
+                bodyAngularMomentum, bodyAtomStart,
+                atomSlot, &typeCoords[info.x], atomCellOffset, posq, posqCorrection, velm, boxVecX, boxVecY, boxVecZ);
     }
 }

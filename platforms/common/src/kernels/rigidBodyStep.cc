@@ -299,10 +299,10 @@ DEVICE void scalarFlow(Body* b, GLOBAL const mixed* RESTRICT tp, int scheme, mix
 DEVICE void stepBody(int body, int frictionClass, int numRotations, int frictionless, mixed h, int removeMotion,
         GLOBAL mixed4* RESTRICT bodyPosition, GLOBAL mixed4* RESTRICT bodyVelocity, GLOBAL mixed4* RESTRICT bodyAngularMomentum,
         GLOBAL mixed4* RESTRICT bodyRotation, GLOBAL const int* RESTRICT bodyType, GLOBAL const int* RESTRICT bodyAtomStart,
-        GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT typeCoords,
+        GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT typeCoords, GLOBAL const int4* RESTRICT atomCellOffset,
         GLOBAL const mm_long* RESTRICT force, GLOBAL const mixed* RESTRICT typeParams, GLOBAL const int4* RESTRICT typeInfo,
         unsigned int seed, mm_ulong randomStep, int randomPerBody, GLOBAL const mixed4* RESTRICT centerOfMassVelocity,
-        int periodic, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ, GLOBAL int4* RESTRICT bodyShift,
+        int periodic, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ, GLOBAL int4* RESTRICT bodyImage,
         GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, GLOBAL mixed4* RESTRICT velm) {
     const int scheme = STEP_SCHEME;
     const int haveRotation = (frictionClass != CLASS_SCALAR || scheme == SCHEME_ORIGINAL);
@@ -373,12 +373,10 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int friction
             driftBody(&b, numRotations, 0.5f*h);
         }
     }
-    // Without a periodic box a body never leaves it: its shift stays zero, and is not read. A
-    // centre brought back into the box adds the boxes it lost to the shift, so that its particles
-    // stay where they were.
-    int4 shift = (periodic ? bodyShift[body] : make_int4(0, 0, 0, 0));
-    if (periodic && keepInBox(b.position, &shift, boxVecX, boxVecY, boxVecZ))
-        bodyShift[body] = shift;
+    // Without a periodic box a body never leaves it: its image stays zero, and is not read.
+    int4 image = (periodic ? bodyImage[body] : make_int4(0, 0, 0, 0));
+    if (periodic && keepInBox(b.position, &image, boxVecX, boxVecY, boxVecZ))
+        bodyImage[body] = image;
     mixed q11 = velocity4.w, q12 = angular4.w;
     if (storesRotation) {
         bodyRotation[body] = make_mixed4(b.q[0], b.q[1], b.q[2], b.q[3]);
@@ -391,24 +389,25 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int friction
         bodyAngularMomentum[body] = make_mixed4(b.angularMomentum[0], b.angularMomentum[1], b.angularMomentum[2], q12);
     mixed omega[3];
     angularVelocity(numRotations, b.angularMomentum, b.inertia, omega);
-    placeBodyParticles(body, numRotations, haveRotation, b.q, b.position, b.velocity, omega, shift, bodyRotation, bodyVelocity,
-            bodyAngularMomentum, bodyAtomStart, atomSlot, bodyCoords, posq, posqCorrection, velm, boxVecX, boxVecY, boxVecZ);
+    placeBodyParticles(body, numRotations, haveRotation, periodic, b.q, b.position, b.velocity, omega, image, bodyRotation, bodyVelocity,
+            bodyAngularMomentum, bodyAtomStart,
+            atomSlot, bodyCoords, atomCellOffset, posq, posqCorrection, velm, boxVecX, boxVecY, boxVecZ);
 }
 
 #define STEP_KERNEL(name, frictionClass, numRotations) \
 KERNEL void name(int first, int last, int frictionless, mixed h, int removeMotion, \
         GLOBAL mixed4* RESTRICT bodyPosition, GLOBAL mixed4* RESTRICT bodyVelocity, GLOBAL mixed4* RESTRICT bodyAngularMomentum, \
         GLOBAL mixed4* RESTRICT bodyRotation, GLOBAL const int* RESTRICT bodyType, GLOBAL const int* RESTRICT bodyAtomStart, \
-        GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT typeCoords, \
+        GLOBAL const int* RESTRICT atomSlot, GLOBAL const mixed4* RESTRICT typeCoords, GLOBAL const int4* RESTRICT atomCellOffset, \
         GLOBAL const mm_long* RESTRICT force, GLOBAL const mixed* RESTRICT typeParams, GLOBAL const int4* RESTRICT typeInfo, \
         unsigned int seed, mm_ulong randomStep, int randomPerBody, GLOBAL const mixed4* RESTRICT centerOfMassVelocity, \
-        int periodic, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ, GLOBAL int4* RESTRICT bodyShift, \
+        int periodic, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ, GLOBAL int4* RESTRICT bodyImage, \
         GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, GLOBAL mixed4* RESTRICT velm) { \
     for (int body = first+GLOBAL_ID; body < last; body += GLOBAL_SIZE) \
         stepBody(body, frictionClass, numRotations, frictionless, h, removeMotion, bodyPosition, bodyVelocity, \
-                bodyAngularMomentum, bodyRotation, bodyType, bodyAtomStart, atomSlot, typeCoords, force, typeParams, \
+                bodyAngularMomentum, bodyRotation, bodyType, bodyAtomStart, atomSlot, typeCoords, atomCellOffset, force, typeParams, \
                 typeInfo, seed, randomStep, randomPerBody, centerOfMassVelocity, periodic, boxVecX, boxVecY, \
-                boxVecZ, bodyShift, posq, posqCorrection, velm); \
+                boxVecZ, bodyImage, posq, posqCorrection, velm); \
 }
 
 STEP_KERNEL(stepScalarBodies, CLASS_SCALAR, 0)
