@@ -51,7 +51,7 @@ double ulps(Real a, Real b) {
 /**
  * The largest error, in ulps of the exact value, of sineAndCosine(x, sn, cs) over the angles a step
  * turns by (|x| < 0.1, where the series are used) and across the switch to the library functions:
- * evenly spaced, log-spaced down to 1e-10, then random. The exact values are std::sin and std::cos
+ * evenly spaced, log-spaced down to 1e-11, then random. The exact values are std::sin and std::cos
  * in long double, rounded to Real.
  */
 template <class Real, class SineAndCosine>
