@@ -219,7 +219,7 @@ TEST_P(AtomReordering, ParticlesLinkedAcrossBodiesStayInOneFrame) {
         moved = std::max(moved, std::sqrt((result[o]-positions[o]).dot(result[o]-positions[o])));
     std::cout << config.name() << ": largest distance of a site from where its parents put it " << worst << " nm; oxygens moved up to " << moved << " nm" << std::endl;
     EXPECT_LT(worst, config.precision == "double" ? 1e-9 : 1e-5);  // mixed: OpenMM computes sites from float positions
-    EXPECT_GT(moved, 0.1);
+    EXPECT_GT(moved, 0.1);  // far enough for bodies to have crossed the faces they straddled
     double energy = 0;
     for (int b = 0; b < bonds->getNumBonds(); b++) {
         int i, j;
@@ -232,7 +232,7 @@ TEST_P(AtomReordering, ParticlesLinkedAcrossBodiesStayInOneFrame) {
     std::cout << config.name() << ": bond energy " << platformEnergy << " kJ/mol, from the reported positions " << energy << std::endl;
     // (A bond stretched by a box vector would add ~140 kJ/mol; a GPU sums energies in its own order.)
     EXPECT_NEAR(energy, platformEnergy, (config.precision == "double" ? 1e-6 : 1e-4)*std::max(1.0, energy));
-    EXPECT_LT(std::sqrt((result[anchor]-positions[anchor]).dot(result[anchor]-positions[anchor])), config.precision == "double" ? 1e-12 : 1e-6);  // far enough for bodies to have crossed the faces they straddled
+    EXPECT_LT(std::sqrt((result[anchor]-positions[anchor]).dot(result[anchor]-positions[anchor])), config.precision == "double" ? 1e-12 : 1e-6);
 }
 
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(AtomReordering);
