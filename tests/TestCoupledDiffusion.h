@@ -117,20 +117,8 @@ void checkCoupledDiffusion(const PlatformConfig& platform, double gammaH, double
         centers.push_back(c);
         axes.push_back(a);
     }
-    // f(i, i+lag, b) averaged over the time origins i of each of NumGroups groups of bodies: a
-    // Series of independent values, whose standard error is that of their mean.
-    const int NumGroups = 32;
     auto average = [&](int lag, auto f) {
-        Series s;
-        for (int g = 0; g < NumGroups; g++) {
-            double sum = 0;
-            int count = 0;
-            for (int b = g; b < numBodies; b += NumGroups)
-                for (int i = 0; i+lag < numSamples; i++, count++)
-                    sum += f(i, i+lag, b);
-            s.add(sum/count);
-        }
-        return s;
+        return averageOverBodyGroups(32, numBodies, numSamples, lag, f);
     };
 
     // Translation: slope of the mean square displacement of the centre of diffusion between two lags,
