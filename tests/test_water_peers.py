@@ -16,7 +16,11 @@ LangevinMiddle at 5/ps and 3 ps for bodies at 0.001 P, with a slower tail (100 p
 the standard error from 5 ps blocks is 0.06-0.07 kJ/mol, from 20-50 ps blocks 0.09-0.10). Blocks
 shorter than 10 ps underestimate the error (a 30 ps run in 6 ps blocks claimed 0.12 kJ/mol for a
 difference whose spread over machines is about 0.25), so its blocks are 10 ps long and few, and the
-tolerance is the t quantile for their degrees of freedom.
+tolerance is the t quantile for their degrees of freedom. Runs of 40 ps (four blocks each, about 6
+degrees of freedom for the difference: 5.96 errors) allow about 1 kJ/mol for the largest combined
+error (TIP4P-Ew), under half of the 5% that the power check asks to resolve; 30 ps (three blocks,
+8.6 errors on an error estimated from two degrees of freedom) would let the power check itself fail
+by chance.
 """
 import io
 import math
@@ -36,7 +40,7 @@ MODELS = ['tip5p', 'tip4pew', 'opc', 'tip3p', 'spce']  # the most sites (slowest
 STEP = 0.002            # ps
 REPORT_EVERY = 25       # steps between StateDataReporter lines (50 fs)
 RELAX_PS = 2            # each integrator from the equilibrated box, before measuring
-PRODUCTION_PS = 50
+PRODUCTION_PS = 40
 NVE_PS = 4
 TEMPERATURE = 300
 
