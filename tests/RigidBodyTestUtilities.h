@@ -264,8 +264,8 @@ struct Series {
  * f(i, i+lag, b) averaged over the time origins i of a run of numSamples samples and over the
  * bodies b of each of numGroups groups (b = g, g+numGroups, ...): a Series of independent values
  * where the bodies do not interact, so that its standard error is that of their mean. Blocks of
- * time origins overlap by the lag, and their spread scatters about the true error by up to a
- * factor of two (SphereDynamics' orientational correlation on three platforms).
+ * time origins are neither independent nor many: in SphereDynamics' orientational correlation their
+ * errors came out between half and twice those from groups of bodies in the same runs.
  */
 template <class F>
 Series averageOverBodyGroups(int numGroups, int numBodies, int numSamples, int lag, F f) {

@@ -170,7 +170,7 @@ namespace {
  * and optionally C(t) at a long lag. Many bodies over short runs, with standard errors from 32
  * groups of bodies: 150 bodies over 6000 samples gave errors from blocks of time origins that were
  * half to twice those from groups of bodies in the same run (Reference, CPU, OpenCL), and by the
- * groups the long lag's error (0.5-0.8%) did not resolve the 2% tolerance with three of them.
+ * groups the long lag's error (0.3-0.8%) did not always resolve the 2% tolerance with three of them.
  */
 void checkOrientation(const PlatformConfig& platform, double gammaH, double epsilon, int numBodies, int stride, int numSamples, int shortLag, int longLag) {
     auto started = std::chrono::steady_clock::now();
