@@ -43,6 +43,7 @@ def main():
     for n in (args.small, args.large):
         system, integrator, positions = build(n, True)
         contexts[n] = (integrator, running_context(system, integrator, positions, 'CPU', {'Threads': '1'}, warmup_steps=2))
+
     def cpu_time_per_body_step(n, steps, repeats=3):
         """Best of `repeats` blocks of `steps` steps, in the process's CPU time (the CPU platform
         steps synchronously), per body-step."""
@@ -62,28 +63,25 @@ def main():
         row['large_over_small'] = row['large_us_per_body_step']/row['small_us_per_body_step']
         rows.append(row)
         print(row, flush=True)
-    ratios = np.array([r['large_over_small'] for r in rows])
+    small = np.array([r['small_us_per_body_step'] for r in rows])
+    large = np.array([r['large_us_per_body_step'] for r in rows])
+    ratios = large/small
     mean, error = ratios.mean(), ratios.std(ddof=1)/math.sqrt(len(ratios))
     cache = last_level_cache_mib()
-    bytes_per_body_step = cpu_current(3)
-    print(f'last-level cache {cache} MiB; the step moves {args.small*bytes_per_body_step/2**20:.0f} MiB ({args.small} bodies) '
-          f'and {args.large*bytes_per_body_step/2**20:.0f} MiB ({args.large}) by the model')
+    mib_per_step = lambda bodies: bodies*cpu_current(3)/2**20  # traffic.py's model of the CPU kernel
+    print(f'last-level cache {cache} MiB; the step moves {mib_per_step(args.small):.0f} MiB ({args.small} bodies) '
+          f'and {mib_per_step(args.large):.0f} MiB ({args.large}) by the model')
     print(f'time per body-step out of cache / in cache: {mean:.3f} +- {error:.3f} ({len(ratios)} alternating pairs)')
-    for row in rows:
-        for key in row:
-            if key != 'pair':
-                row[key] = f'{row[key]:.4g}'
-    write_table('cpu_cache', ['pair', 'small_us_per_body_step', 'large_us_per_body_step', 'large_over_small'], rows)
+    write_table('cpu_cache', ['pair', 'small_us_per_body_step', 'large_us_per_body_step', 'large_over_small'],
+                [{'pair': r['pair'], **{key: f'{value:.4g}' for key, value in r.items() if key != 'pair'}} for r in rows])
 
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
     fig, (left, right) = plt.subplots(1, 2, figsize=(10, 3.8))
     pairs = [r['pair'] for r in rows]
-    left.plot(pairs, [float(r['small_us_per_body_step']) for r in rows], 'o-',
-              label=f'{args.small} bodies ({args.small*bytes_per_body_step/2**20:.0f} MiB per step)')
-    left.plot(pairs, [float(r['large_us_per_body_step']) for r in rows], 's-',
-              label=f'{args.large} bodies ({args.large*bytes_per_body_step/2**20:.0f} MiB per step)')
+    left.plot(pairs, small, 'o-', label=f'{args.small} bodies ({mib_per_step(args.small):.0f} MiB per step)')
+    left.plot(pairs, large, 's-', label=f'{args.large} bodies ({mib_per_step(args.large):.0f} MiB per step)')
     left.set_xlabel('pair (timed alternately)')
     left.set_ylabel('us per body-step (CPU, one thread)')
     left.set_title(f'last-level cache {cache:.0f} MiB' if cache else 'CPU platform, one thread')
