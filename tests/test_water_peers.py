@@ -38,7 +38,7 @@ from rigidlangevin.statistics import agreement_threshold, block_error, welch_deg
 DATA = pathlib.Path(__file__).parent/'data'
 MODELS = ['tip5p', 'tip4pew', 'opc', 'tip3p', 'spce']  # the most sites (slowest) first
 STEP = 0.002            # ps
-REPORT_EVERY = 25       # steps between StateDataReporter lines (50 fs)
+REPORT_EVERY = 50       # steps between StateDataReporter lines (100 fs; each line costs a force evaluation)
 RELAX_PS = 2            # each integrator from the equilibrated box, before measuring
 PRODUCTION_PS = 40
 NVE_PS = 4
