@@ -16,9 +16,10 @@ mixed precision); random numbers generated where they are used; particle velocit
 when a State asks for them) are listed apart.
 
 Measured: per-kernel DRAM bytes on an H100 and an H200 (Nsight Compute, 1e6 water-shaped bodies;
-PROFILES below: on the H100 before the kernels were rewritten and after each step of the rewrite, on
-the H200 the kernels of b9f060f and today's) and the time per body-step of integrator_cost.py (results/*/integrator_cost.csv)
-divided into the modelled bytes: the bandwidth a kernel achieves.
+PROFILES below: on the H100 before the kernels were rewritten, after each step of the rewrite and
+today's, on the H200 the kernels of b9f060f and 07d6a90) and the time per body-step of
+integrator_cost.py (results/integrator_cost.csv, results/*/integrator_cost*.csv) divided into
+the modelled bytes: the bandwidth a kernel achieves.
 
     python benchmarks/platforms/traffic.py       # writes results/traffic.md and results/traffic.csv
 
@@ -164,10 +165,10 @@ def read_csv(name):
         return list(csv.DictReader(f))
 
 
-def measured_time(directory, platform, precision, bodies=1000000):
-    """us per body-step of the integrator alone at 1e6 water-shaped bodies (integrator_cost.py), as
-    measured on the machine whose results are in results/directory ('' for the development machine)."""
-    for row in read_csv(os.path.join(directory, 'integrator_cost.csv')):
+def measured_time(path, platform, precision, bodies=1000000):
+    """us per body-step of the integrator alone at 1e6 water-shaped bodies, from a table of
+    integrator_cost.py (results/path)."""
+    for row in read_csv(path):
         if row['platform'] == platform and row['precision'] == precision and row['bodies'] == str(bodies):
             return float(row['us_per_body_step'])
     return None
@@ -193,22 +194,25 @@ def profile_rows(path):
 
 
 # The GPU profiles (CUDA, 1e6 three-particle bodies), each with the model of the kernels profiled: on
-# the H100 before any change, after the step kernels kept their arrays in registers (97e1b74), and
-# with the step and the placement fused into one pass (3ed7dd0); on the H200 those of b9f060f (cell
-# offsets read in any box) and today's.
+# the H100 before any change, after the step kernels kept their arrays in registers (97e1b74), with
+# the step and the placement fused into one pass (3ed7dd0), and today's; on the H200 those of
+# b9f060f (cell offsets read in any box) and of 07d6a90, which the model of today's kernels describes.
 PROFILES = [('H100, before (61978fa)', 'gpu_h100/gpu_bandwidth_before.csv', 'mixed', common_before),
             ('H100, registers (97e1b74)', 'gpu_h100/gpu_bandwidth_registers.csv', 'mixed', common_before),
-            ('H100, fused (3ed7dd0), mixed', 'gpu_h100/gpu_bandwidth.csv', 'mixed', common_fused),
-            ('H100, fused (3ed7dd0), single', 'gpu_h100/gpu_bandwidth_single.csv', 'single', common_fused),
+            ('H100, fused (3ed7dd0), mixed', 'gpu_h100/gpu_bandwidth_3ed7dd0.csv', 'mixed', common_fused),
+            ('H100, fused (3ed7dd0), single', 'gpu_h100/gpu_bandwidth_single_3ed7dd0.csv', 'single', common_fused),
+            ('H100, today, mixed', 'gpu_h100/gpu_bandwidth.csv', 'mixed', common_current),
+            ('H100, today, single', 'gpu_h100/gpu_bandwidth_single.csv', 'single', common_current),
             ('H200, b9f060f, mixed', 'gpu_h200/gpu_bandwidth_b9f060f.csv', 'mixed', common_h200),
             ('H200, b9f060f, single', 'gpu_h200/gpu_bandwidth_single_b9f060f.csv', 'single', common_h200),
-            ('H200, today, mixed', 'gpu_h200/gpu_bandwidth.csv', 'mixed', common_current),
-            ('H200, today, single', 'gpu_h200/gpu_bandwidth_single.csv', 'single', common_current)]
+            ('H200, 07d6a90, mixed', 'gpu_h200/gpu_bandwidth.csv', 'mixed', common_current),
+            ('H200, 07d6a90, single', 'gpu_h200/gpu_bandwidth_single.csv', 'single', common_current)]
 
 # Where each machine's integrator_cost.py times are, and the model of the kernels they timed.
-TIMED = [('this machine (CPU, PoCL; kernels of 01ddd0e)', '', [('CPU', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')], common_current),
-         ('H100 (kernels of 3ed7dd0)', 'gpu_h100', [('CUDA', 'single'), ('CUDA', 'mixed')], common_fused),
-         ('H200 (kernels of b9f060f)', 'gpu_h200', [('CUDA', 'single'), ('CUDA', 'mixed')], common_h200)]
+TIMED = [('this machine (CPU, PoCL; kernels of 01ddd0e)', 'integrator_cost.csv', [('CPU', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')], common_current),
+         ('H100 (kernels of 3ed7dd0)', 'gpu_h100/integrator_cost_3ed7dd0.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_fused),
+         ('H100 (kernels of 2715354, today)', 'gpu_h100/integrator_cost.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_current),
+         ('H200 (kernels of b9f060f)', 'gpu_h200/integrator_cost.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_h200)]
 
 
 def main(argv=None):
@@ -296,9 +300,9 @@ def main(argv=None):
               'are far below it, so there the step is bound by arithmetic, not by memory. Each time is one timed block '
               '(on the H200, four repeats of the 1e6 rows scattered by 1-3%: gpu_h200/integrator_cost_1e6_repeats.csv).', '',
               '| machine | platform | precision | us per body-step | model bytes | GB/s |', '|---|---|---|---|---|---|']
-    for machine, directory, runs, kernels in TIMED:
+    for machine, path, runs, kernels in TIMED:
         for platform, precision in runs:
-            t = measured_time(directory, platform, precision)
+            t = measured_time(path, platform, precision)
             model = cpu_current(3) if platform == 'CPU' else sum(kernels(3, precision).values())
             if t is not None:
                 lines.append(f'| {machine} | {platform} | {precision} | {t:.4g} | {model} | {model/t*1e-3:.3g} |')
