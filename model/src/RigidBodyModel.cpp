@@ -109,13 +109,16 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidBodyDescription&
     // A virtual site in a body rides on it: OpenMM places it from its parents and hands its force
     // to them, so the parents must move with the site, in the same body.
     particleIsVirtualSite.assign(numParticles, 0);
+    sitesOutsideBodies = false;
     for (int p = 0; p < numParticles; p++) {
         if (!system.isVirtualSite(p))
             continue;
         particleIsVirtualSite[p] = 1;
         int b = particleBody[p];
-        if (b == -1)
+        if (b == -1) {
+            sitesOutsideBodies = true;
             continue;
+        }
         const VirtualSite& site = system.getVirtualSite(p);
         for (int i = 0; i < site.getNumParticles(); i++)
             if (particleBody[site.getParticle(i)] != b)

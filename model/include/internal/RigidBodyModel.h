@@ -119,6 +119,14 @@ public:
         return particleBody[particle];
     }
     /**
+     * Whether some virtual site rides on no body. A site in a body is placed with it, as its
+     * parents are (they must be in the same body); only sites outside bodies need OpenMM to place
+     * them from their parents after a step.
+     */
+    bool hasSitesOutsideBodies() const {
+        return sitesOutsideBodies;
+    }
+    /**
      * Fit body states to particle positions and velocities. The first call defines the body types
      * from these positions, made exact first where the System's constraints or virtual sites fix
      * them (ExactBodyShapes); later calls fit each body to its type and throw if the positions
@@ -166,6 +174,7 @@ private:
     std::vector<int> particleBody;
     std::vector<double> particleMass, particleRadius;
     std::vector<int> particleIsVirtualSite;
+    bool sitesOutsideBodies;
     std::unique_ptr<ExactBodyShapes> exactShapes;
     std::vector<std::vector<double> > explicitTensor;  // per user body, empty if none
     std::vector<OpenMM::Vec3> explicitOrigin;

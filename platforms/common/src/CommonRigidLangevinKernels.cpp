@@ -485,7 +485,10 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
         }
         randomStep++;
     }
-    integration.computeVirtualSites();
+    // The step kernels placed the bodies' sites with their bodies; OpenMM's kernel, which places
+    // every site from its parents, is for sites outside bodies.
+    if (model->hasSitesOutsideBodies())
+        integration.computeVirtualSites();
     cc.setTime(cc.getTime()+h);
     cc.setStepCount(cc.getStepCount()+1);
     cc.reorderAtoms();
