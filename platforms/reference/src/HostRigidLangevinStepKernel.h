@@ -124,7 +124,7 @@ protected:
             }
         });
         // Placing the bodies placed their sites; OpenMM's computePositions, which places every
-        // site from its parents (14 +- 5% of a step of four-site water bodies), is for the others.
+        // site from its parents (about a tenth of a step of four-site water bodies), is for the others.
         if (model->hasSitesOutsideBodies())
             data.virtualSites->computePositions(context.getSystem(), *data.positions, data.periodicBoxVectors);
         data.time += h;
