@@ -106,8 +106,9 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidBodyDescription&
         bodyParticles.push_back(particles);
     }
 
-    // A virtual site in a body rides on it: OpenMM places it from its parents and hands its force
-    // to them, so the parents must move with the site, in the same body.
+    // A virtual site in a body rides on it: OpenMM defines it from its parents and hands its force
+    // to them, so the parents must move with the site, in the same body, which then places all of
+    // them. Only sites outside bodies are left to OpenMM to place after a step.
     particleIsVirtualSite.assign(numParticles, 0);
     sitesOutsideBodies = false;
     for (int p = 0; p < numParticles; p++) {
