@@ -250,8 +250,8 @@ def test_traffic_model_bounds_and_matches_the_gpu_profiles():
     assert abs(fused['stepCoupledBodies3']/traffic.common_fused(3, 'mixed')['step']-1) < 0.08
     assert abs(fused_single['stepCoupledBodies3']/traffic.common_fused(3, 'single')['step']-1) < 0.08
     # On the H200: reading the cell offsets only in a periodic box took 48 bytes off (the bodies are
-    # in none); a model that still counted them would be 9 % (mixed) and 17 % (single) off today's
-    # profiles, on the H200 (07d6a90) and on the H100 (today's kernels).
+    # in none); a model that still counted them would be off today's profiles by 9 % (mixed) and 17 %
+    # (single) on the H200 (07d6a90), and by 8.5 % and 16 % on the H100 (today's kernels).
     for precision, suffix in (('mixed', ''), ('single', '_single')):
         earlier = bytes_of(f'gpu_bandwidth{suffix}_b9f060f.csv', 'gpu_h200')['stepCoupledBodies3']
         assert abs(earlier/traffic.common_h200(3, precision)['step']-1) < 0.08
