@@ -5,6 +5,7 @@
 #include "internal/StepCoefficients.h"
 #include "openmm/Vec3.h"
 #include <cmath>
+#include <type_traits>
 
 namespace RigidLangevinPlugin {
 
@@ -156,26 +157,50 @@ inline void kick(BodyState& s, const BodyType& type, const OpenMM::Vec3& force, 
             s.angularMomentum[k] += dt*bodyTorque[k];
 }
 
+/**
+ * The active generalized coordinate i of a body with Rotations rotating axes (0, 2 or 3): the three
+ * translations, then rotation about the last Rotations body axes (BodyType::rotates), as
+ * TypeStepCoefficients::active has them. The flows below take Rotations as a template argument, so
+ * that their loops over the active coordinates unroll and no branch on a coordinate's kind is left.
+ */
+template <int Rotations>
+constexpr int activeCoordinate(int i) {
+    return (i < 3 ? i : i+3-Rotations);
+}
+
+/** Call f(std::integral_constant<int, R>()) with R the body's number of rotating axes. */
+template <class F>
+inline void withRotations(const BodyType& type, F&& f) {
+    if (type.numRotations == 0)
+        f(std::integral_constant<int, 0>());
+    else if (type.numRotations == 2)
+        f(std::integral_constant<int, 2>());
+    else
+        f(std::integral_constant<int, 3>());
+}
+
 /** The generalized velocity on the active coordinates. */
-inline void generalizedVelocity(const BodyState& s, const BodyType& type, const TypeStepCoefficients& c, double* u) {
+template <int Rotations>
+inline void generalizedVelocity(const BodyState& s, const BodyType& type, double* u) {
     OpenMM::Vec3 vb = toBody(s.rotation, s.velocity);
-    for (int i = 0; i < c.dof; i++) {
-        int a = c.active[i];
-        u[i] = (a < 3 ? vb[a] : s.angularMomentum[a-3]/type.inertia[a-3]);
+    for (int i = 0; i < 3+Rotations; i++) {
+        int k = activeCoordinate<Rotations>(i);
+        u[i] = (k < 3 ? vb[k] : s.angularMomentum[k-3]/type.inertia[k-3]);
     }
 }
 
-/** y = A x on the active coordinates; diagonal types multiply by the diagonal alone. */
-inline void multiply(const Matrix6& a, const TypeStepCoefficients& c, const double* x, double* y) {
-    if (c.frictionClass == FrictionClass::Coupled)
-        for (int i = 0; i < c.dof; i++) {
+/** y = A x on the Dof active coordinates; diagonal types multiply by the diagonal alone. */
+template <int Dof>
+inline void multiply(const Matrix6& a, FrictionClass frictionClass, const double* x, double* y) {
+    if (frictionClass == FrictionClass::Coupled)
+        for (int i = 0; i < Dof; i++) {
             double sum = 0;
-            for (int j = 0; j < c.dof; j++)
+            for (int j = 0; j < Dof; j++)
                 sum += a(i, j)*x[j];
             y[i] = sum;
         }
     else
-        for (int i = 0; i < c.dof; i++)
+        for (int i = 0; i < Dof; i++)
             y[i] = a(i, i)*x[i];
 }
 
@@ -211,12 +236,13 @@ inline void multiply(const Matrix6& a, const TypeStepCoefficients& c, const doub
  * Without friction this is exactly velocity Verlet with DLM rotation; with stiff friction c ->
  * 2/(gamma h) and it tends to Brownian dynamics with the right drift.
  */
-template <class Random>
-void exactFlow(BodyState& s, const BodyType& type, const TypeStepCoefficients& c, double h, Random& random) {
+template <int Rotations, class Random>
+void exactFlowOf(BodyState& s, const BodyType& type, const TypeStepCoefficients& c, double h, Random& random) {
+    constexpr int Dof = 3+Rotations;
     double u[6], a[6], mid[6], y[6], displacement[6];
-    generalizedVelocity(s, type, c, u);
-    multiply(c.toModes, c, u, a);
-    for (int i = 0; i < c.dof; i++) {
+    generalizedVelocity<Rotations>(s, type, u);
+    multiply<Dof>(c.toModes, c.frictionClass, u, a);
+    for (int i = 0; i < Dof; i++) {
         const ModeCoefficients& m = c.modes[i];
         double n1 = random.next(), n2 = random.next();
         y[i] = m.drift*a[i]+m.noiseCross*n1+m.noiseDisplacement*n2;
@@ -228,11 +254,11 @@ void exactFlow(BodyState& s, const BodyType& type, const TypeStepCoefficients& c
             a[i] = m.decay*a[i]+m.noiseVelocity*n3;
         }
     }
-    multiply(c.fromModes, c, a, u);
-    multiply(c.fromModes, c, y, displacement);
+    multiply<Dof>(c.fromModes, c.frictionClass, a, u);
+    multiply<Dof>(c.fromModes, c.frictionClass, y, displacement);
     OpenMM::Vec3 dx, vb, j, theta;
-    for (int i = 0; i < c.dof; i++) {
-        int k = c.active[i];
+    for (int i = 0; i < Dof; i++) {
+        int k = activeCoordinate<Rotations>(i);
         if (k < 3) {
             dx[k] = displacement[i];
             vb[k] = u[i];
@@ -242,16 +268,16 @@ void exactFlow(BodyState& s, const BodyType& type, const TypeStepCoefficients& c
             theta[k-3] = displacement[i];
         }
     }
-    if (type.numRotations == 0) {
+    if (Rotations == 0) {
         s.velocity = toLab(s.rotation, vb);
         s.position += toLab(s.rotation, dx);
         return;
     }
     double midVelocity[6];
-    multiply(c.fromModes, c, mid, midVelocity);
+    multiply<Dof>(c.fromModes, c.frictionClass, mid, midVelocity);
     OpenMM::Vec3 vMid, wMid;  // mid-step velocities, scaled by their drive fractions
-    for (int i = 0; i < c.dof; i++) {
-        int k = c.active[i];
+    for (int i = 0; i < Dof; i++) {
+        int k = activeCoordinate<Rotations>(i);
         if (k < 3)
             vMid[k] = c.driveFraction[k]*midVelocity[i];
         else
@@ -270,7 +296,7 @@ void exactFlow(BodyState& s, const BodyType& type, const TypeStepCoefficients& c
     for (int k = 0; k < 3; k++)
         jDrive[k] = c.driveFraction[3+k]*j[k];
     // The vectors alone turn: the frame they turn into is the body's new one.
-    if (type.numRotations == 2) {
+    if (Rotations == 2) {
         // A linear body's velocity keeps its axial component: it turns by the same exact rotation.
         OpenMM::Vec3 phi(0, h*jDrive[1]/type.inertia[1], h*jDrive[2]/type.inertia[2]);
         rotateByVector(nullptr, phi, &vb, 1);
@@ -287,24 +313,39 @@ void exactFlow(BodyState& s, const BodyType& type, const TypeStepCoefficients& c
     removeAxialComponent(type, s.angularMomentum);
 }
 
-/** The exact Ornstein-Uhlenbeck step of the velocities over h (BAOAB's O). */
 template <class Random>
-void ornsteinUhlenbeck(BodyState& s, const BodyType& type, const TypeStepCoefficients& c, Random& random) {
+void exactFlow(BodyState& s, const BodyType& type, const TypeStepCoefficients& c, double h, Random& random) {
+    withRotations(type, [&] (auto rotations) {
+        exactFlowOf<decltype(rotations)::value>(s, type, c, h, random);
+    });
+}
+
+/** The exact Ornstein-Uhlenbeck step of the velocities over h (BAOAB's O). */
+template <int Rotations, class Random>
+void ornsteinUhlenbeckOf(BodyState& s, const BodyType& type, const TypeStepCoefficients& c, Random& random) {
+    constexpr int Dof = 3+Rotations;
     double u[6], a[6];
-    generalizedVelocity(s, type, c, u);
-    multiply(c.toModes, c, u, a);
-    for (int i = 0; i < c.dof; i++)
+    generalizedVelocity<Rotations>(s, type, u);
+    multiply<Dof>(c.toModes, c.frictionClass, u, a);
+    for (int i = 0; i < Dof; i++)
         a[i] = c.modes[i].decay*a[i]+c.modes[i].noiseVelocity*random.next();
-    multiply(c.fromModes, c, a, u);
+    multiply<Dof>(c.fromModes, c.frictionClass, a, u);
     OpenMM::Vec3 vb;
-    for (int i = 0; i < c.dof; i++) {
-        int k = c.active[i];
+    for (int i = 0; i < Dof; i++) {
+        int k = activeCoordinate<Rotations>(i);
         if (k < 3)
             vb[k] = u[i];
         else
             s.angularMomentum[k-3] = type.inertia[k-3]*u[i];
     }
     s.velocity = toLab(s.rotation, vb);
+}
+
+template <class Random>
+void ornsteinUhlenbeck(BodyState& s, const BodyType& type, const TypeStepCoefficients& c, Random& random) {
+    withRotations(type, [&] (auto rotations) {
+        ornsteinUhlenbeckOf<decltype(rotations)::value>(s, type, c, random);
+    });
 }
 
 /** The free drift over dt: translation and free rotation (BAOAB's A, velocity Verlet's drift). */
@@ -324,44 +365,45 @@ const double OriginalSchemeTolerance = 1e-6;
  * kick by fixed-point iteration, with a fresh random force of covariance 2 kT viscosity Xi/h), then
  * starts the next (moveA: half kick with the total force, drift, DLM rotation).
  */
-template <class Random>
-void originalStep(BodyState& s, const BodyType& type, const TypeStepCoefficients& c, const OpenMM::Vec3& force,
-                  const OpenMM::Vec3& bodyTorque, double h, Random& random) {
+template <int Rotations, class Random>
+void originalStepOf(BodyState& s, const BodyType& type, const TypeStepCoefficients& c, const OpenMM::Vec3& force,
+                    const OpenMM::Vec3& bodyTorque, double h, Random& random) {
+    constexpr int Dof = 3+Rotations;
     double uHalf[6], u[6], g[6], noise[6], totalForce[6];
-    generalizedVelocity(s, type, c, uHalf);
+    generalizedVelocity<Rotations>(s, type, uHalf);
     OpenMM::Vec3 fb = toBody(s.rotation, force);
-    for (int i = 0; i < c.dof; i++) {
-        int k = c.active[i];
+    for (int i = 0; i < Dof; i++) {
+        int k = activeCoordinate<Rotations>(i);
         g[i] = (k < 3 ? fb[k] : bodyTorque[k-3]);
         noise[i] = random.next();
     }
-    for (int i = 0; i < c.dof; i++)
+    for (int i = 0; i < Dof; i++)
         for (int j = 0; j <= i; j++)
             g[i] += c.randomForce(i, j)*noise[j];
-    for (int i = 0; i < c.dof; i++)
+    for (int i = 0; i < Dof; i++)
         u[i] = uHalf[i];
     for (int iteration = 0; iteration < OriginalSchemeMaxIterations; iteration++) {
         double change = 0, size = 0, next[6];
-        for (int i = 0; i < c.dof; i++) {
+        for (int i = 0; i < Dof; i++) {
             double friction = 0;
-            for (int j = 0; j < c.dof; j++)
+            for (int j = 0; j < Dof; j++)
                 friction += c.friction(i, j)*u[j];
             next[i] = uHalf[i]+0.5*h*c.inverseMass[i]*(g[i]-friction);
             change = std::max(change, std::abs(next[i]-u[i]));
             size = std::max(size, std::abs(next[i]));
         }
-        for (int i = 0; i < c.dof; i++)
+        for (int i = 0; i < Dof; i++)
             u[i] = next[i];
         if (change <= OriginalSchemeTolerance*size)
             break;
     }
     OpenMM::Vec3 vb, fTotal;
-    for (int i = 0; i < c.dof; i++) {
+    for (int i = 0; i < Dof; i++) {
         double friction = 0;
-        for (int j = 0; j < c.dof; j++)
+        for (int j = 0; j < Dof; j++)
             friction += c.friction(i, j)*u[j];
         totalForce[i] = g[i]-friction;
-        int k = c.active[i];
+        int k = activeCoordinate<Rotations>(i);
         if (k < 3) {
             vb[k] = u[i];
             fTotal[k] = totalForce[i];
@@ -371,6 +413,14 @@ void originalStep(BodyState& s, const BodyType& type, const TypeStepCoefficients
     }
     s.velocity = toLab(s.rotation, vb+fTotal*(0.5*h/type.mass));
     drift(s, type, h);
+}
+
+template <class Random>
+void originalStep(BodyState& s, const BodyType& type, const TypeStepCoefficients& c, const OpenMM::Vec3& force,
+                  const OpenMM::Vec3& bodyTorque, double h, Random& random) {
+    withRotations(type, [&] (auto rotations) {
+        originalStepOf<decltype(rotations)::value>(s, type, c, force, bodyTorque, h, random);
+    });
 }
 
 } // namespace BodyDynamics

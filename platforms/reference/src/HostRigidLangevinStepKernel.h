@@ -12,6 +12,15 @@
 #include <memory>
 #include <vector>
 
+// The host step's per-body loop in two builds, one for CPUs with AVX2 and FMA (x86-64-v3) and one
+// for the baseline, chosen by the CPU when the library is loaded (GCC's target_clones, an ELF ifunc);
+// flatten compiles everything it calls inline into each build. Other compilers build the baseline.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__ELF__)
+#define RIGIDLANGEVIN_HOST_CLONES __attribute__((target_clones("arch=x86-64-v3", "default"), flatten))
+#else
+#define RIGIDLANGEVIN_HOST_CLONES
+#endif
+
 namespace RigidLangevinPlugin {
 
 /**
@@ -85,43 +94,7 @@ protected:
         const bool frictionless = (integrator.getViscosity() == 0);
         // One pass per body: forces, kick, flow and placing its particles, while the body is in cache.
         forEachChunk([&] (int chunk, int begin, int end) {
-            Random& rng = random[chunk]->random;
-            for (int b = begin; b < end; b++) {
-                int typeIndex = model->getBodyType(b);
-                const BodyType& type = model->getType(typeIndex);
-                const TypeStepCoefficients& c = coefficients[typeIndex];
-                const bool point = (type.numRotations == 0);
-                BodyState s = (point ? bodies.loadPoint(b) : bodies.load(b));
-                if (removeMotion)
-                    s.velocity -= centerOfMassVelocity;
-                OpenMM::Vec3 force, torque;
-                computeBodyForce(b, s, force, torque);
-                if (scheme == RigidLangevinIntegrator::Original)
-                    BodyDynamics::originalStep(s, type, c, force, torque, h, rng);
-                else {
-                    // Velocities are kept between flow and kick, so the two half kicks of
-                    // consecutive steps are one full kick. Without friction both schemes are
-                    // plain velocity Verlet with free rotation.
-                    BodyDynamics::kick(s, type, force, torque, h);
-                    if (scheme == RigidLangevinIntegrator::ExactFlow) {
-                        if (frictionless)
-                            BodyDynamics::drift(s, type, h);
-                        else
-                            BodyDynamics::exactFlow(s, type, c, h, rng);
-                    }
-                    else {
-                        BodyDynamics::drift(s, type, 0.5*h);
-                        if (!frictionless)
-                            BodyDynamics::ornsteinUhlenbeck(s, type, c, rng);
-                        BodyDynamics::drift(s, type, 0.5*h);
-                    }
-                }
-                if (point)
-                    bodies.storePoint(b, s);
-                else
-                    bodies.store(b, s);
-                model->placeBodyParticles(b, s, *data.positions, *data.velocities);
-            }
+            advanceBodies(begin, end, random[chunk]->random, scheme, h, frictionless, removeMotion, centerOfMassVelocity);
         });
         // Placing the bodies placed their sites; OpenMM's computePositions, which places every
         // site from its parents (about a tenth of a step of four-site water bodies), is for the others.
@@ -166,6 +139,47 @@ protected:
     OpenMM::ReferencePlatform::PlatformData& data;
     std::vector<std::unique_ptr<RandomStream> > random;  // one per chunk
 private:
+    /** Advance bodies [begin, end) by one step, drawing from rng (in two builds: RIGIDLANGEVIN_HOST_CLONES). */
+    RIGIDLANGEVIN_HOST_CLONES
+    void advanceBodies(int begin, int end, Random& rng, RigidLangevinIntegrator::Scheme scheme, double h, bool frictionless,
+                       bool removeMotion, OpenMM::Vec3 centerOfMassVelocity) {
+        for (int b = begin; b < end; b++) {
+            int typeIndex = model->getBodyType(b);
+            const BodyType& type = model->getType(typeIndex);
+            const TypeStepCoefficients& c = coefficients[typeIndex];
+            const bool point = (type.numRotations == 0);
+            BodyState s = (point ? bodies.loadPoint(b) : bodies.load(b));
+            if (removeMotion)
+                s.velocity -= centerOfMassVelocity;
+            OpenMM::Vec3 force, torque;
+            computeBodyForce(b, s, force, torque);
+            if (scheme == RigidLangevinIntegrator::Original)
+                BodyDynamics::originalStep(s, type, c, force, torque, h, rng);
+            else {
+                // Velocities are kept between flow and kick, so the two half kicks of
+                // consecutive steps are one full kick. Without friction both schemes are
+                // plain velocity Verlet with free rotation.
+                BodyDynamics::kick(s, type, force, torque, h);
+                if (scheme == RigidLangevinIntegrator::ExactFlow) {
+                    if (frictionless)
+                        BodyDynamics::drift(s, type, h);
+                    else
+                        BodyDynamics::exactFlow(s, type, c, h, rng);
+                }
+                else {
+                    BodyDynamics::drift(s, type, 0.5*h);
+                    if (!frictionless)
+                        BodyDynamics::ornsteinUhlenbeck(s, type, c, rng);
+                    BodyDynamics::drift(s, type, 0.5*h);
+                }
+            }
+            if (point)
+                bodies.storePoint(b, s);
+            else
+                bodies.store(b, s);
+            model->placeBodyParticles(b, s, *data.positions, *data.velocities);
+        }
+    }
     /** Total force (lab frame) and torque (body frame) on a body, from the platform's forces. */
     void computeBodyForce(int body, const BodyState& s, OpenMM::Vec3& force, OpenMM::Vec3& torque) const {
         const BodyType& type = model->getType(model->getBodyType(body));
