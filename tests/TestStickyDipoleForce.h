@@ -353,8 +353,8 @@ TEST_P(StickyDipoleForceTest, RigidWatersConserveEnergyWithoutFriction) {
     // no friction: the energy error of a second order integrator falls fourfold with each halving
     // of the step, and does not drift beyond its fluctuation. One 2 ps run is one chaotic
     // realization: over 16 velocity seeds its ratio of fluctuations scattered by 0.36 about 4
-    // (3.3 to 4.9), and its drift reached 1.15 of half the fluctuation, so a change at rounding
-    // could fail a single run. Both are judged on the mean of Seeds runs, against its standard error.
+    // (3.3 to 4.9), and its drift over the run reached 1.15 times the fluctuation, so a change at
+    // rounding could fail a single run. Both are judged on the mean of Seeds runs, against its standard error.
     const int Seeds = 8, Samples = 200;
     const double steps[2] = {0.001, 0.0005};
     std::vector<double> ratio, drift[2], deviation[2];
@@ -407,8 +407,8 @@ TEST_P(StickyDipoleForceTest, RigidWatersConserveEnergyWithoutFriction) {
         std::pair<double, double> dev = meanAndError(deviation[k]), slope = meanAndError(drift[k]);
         std::cout << "step " << steps[k]*1000 << " fs: energy deviation " << dev.first << " +- " << dev.second << " kJ/mol, drift "
                   << slope.first*1000/27 << " +- " << slope.second*1000/27 << " kJ/mol/ns per molecule (" << Seeds << " seeds)" << std::endl;
-        // No drift beyond the fluctuation over the run: 2 ps times the mean drift within half the
-        // mean deviation (over the 16 seeds, five standard errors of the mean drift of 8).
+        // No drift beyond the fluctuation over the run: 2 ps times the mean drift within the mean
+        // deviation (over the 16 seeds, five standard errors of the mean drift of 8).
         EXPECT_LT(std::abs(slope.first)*2.0, dev.first);
     }
     // Second order: 4 within five standard errors (about 0.6; a first order integrator gives 2).
