@@ -63,10 +63,8 @@ vector<TypeStepCoefficients> RigidLangevinPlugin::computeStepCoefficients(const 
         vector<int> active = type.getActiveCoordinates();
         int dof = active.size();
         c.frictionClass = type.frictionClass;
-        c.dof = dof;
         Eigen::VectorXd mass(dof);
         for (int i = 0; i < dof; i++) {
-            c.active[i] = active[i];
             mass[i] = (active[i] < 3 ? type.mass : type.inertia[active[i]-3]);
             c.inverseMass[i] = 1/mass[i];
         }

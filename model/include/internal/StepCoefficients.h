@@ -53,7 +53,8 @@ inline double velocityTimeOffset(SplittingScheme scheme, double viscosity, doubl
  * Everything a kernel needs to advance the bodies of one type by one step in a given scheme,
  * temperature, viscosity and step size. Generalized coordinates are the active ones of the type
  * (BodyType::getActiveCoordinates(): translation in the body frame, then rotation about the body
- * axes that rotate), dof of them; matrices fill their top-left dof x dof block.
+ * axes that rotate), BodyType::getNumDegreesOfFreedom() of them; matrices fill their top-left
+ * block of that size, in that order (BodyDynamics::activeCoordinate).
  *
  * With W = M^1/2 U (U the generalized velocity, M the mass matrix) and K = M^-1/2 (viscosity Xi)
  * M^-1/2 = S diag(lambda) S^T, the modes are a = S^T W: toModes = S^T M^1/2 and
@@ -62,8 +63,6 @@ inline double velocityTimeOffset(SplittingScheme scheme, double viscosity, doubl
  */
 struct TypeStepCoefficients {
     FrictionClass frictionClass;
-    int dof;
-    int active[6];                ///< the active generalized coordinates, 0-5
     Matrix6 toModes, fromModes;   ///< ExactFlow and BAOAB
     /**
      * ExactFlow: the modes over h/2 if halfSteps (bodies that rotate: the flow is taken as two exact
