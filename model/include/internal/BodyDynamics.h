@@ -159,8 +159,8 @@ inline void kick(BodyState& s, const BodyType& type, const OpenMM::Vec3& force, 
 
 /**
  * The active generalized coordinate i of a body with Rotations rotating axes (0, 2 or 3): the three
- * translations, then rotation about the last Rotations body axes (BodyType::rotates), as
- * TypeStepCoefficients::active has them. The flows below take Rotations as a template argument, so
+ * translations, then rotation about the last Rotations body axes (BodyType::rotates), in the order
+ * of BodyType::getActiveCoordinates(), which the step coefficients follow. The flows below take Rotations as a template argument, so
  * that their loops over the active coordinates unroll and no branch on a coordinate's kind is left.
  */
 template <int Rotations>
