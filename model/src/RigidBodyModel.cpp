@@ -70,10 +70,9 @@ const double ZeroMomentTolerance = 1e-10;
 } // namespace
 
 vector<int> BodyType::getActiveCoordinates() const {
-    vector<int> active = {0, 1, 2};
-    for (int axis = 0; axis < 3; axis++)
-        if (rotates(axis))
-            active.push_back(3+axis);
+    vector<int> active;
+    for (int i = 0; i < getNumDegreesOfFreedom(); i++)
+        active.push_back(activeCoordinate(numRotations, i));
     return active;
 }
 

@@ -158,17 +158,10 @@ inline void kick(BodyState& s, const BodyType& type, const OpenMM::Vec3& force, 
 }
 
 /**
- * The active generalized coordinate i of a body with Rotations rotating axes (0, 2 or 3): the three
- * translations, then rotation about the last Rotations body axes (BodyType::rotates), in the order
- * of BodyType::getActiveCoordinates(), which the step coefficients follow. The flows below take Rotations as a template argument, so
- * that their loops over the active coordinates unroll and no branch on a coordinate's kind is left.
+ * Call f(std::integral_constant<int, R>()) with R the body's number of rotating axes. The flows below
+ * take R as a template argument, so that their loops over the active coordinates (activeCoordinate
+ * in RigidBodyModel.h) unroll and no branch on a coordinate's kind is left.
  */
-template <int Rotations>
-constexpr int activeCoordinate(int i) {
-    return (i < 3 ? i : i+3-Rotations);
-}
-
-/** Call f(std::integral_constant<int, R>()) with R the body's number of rotating axes. */
 template <class F>
 inline void withRotations(const BodyType& type, F&& f) {
     if (type.numRotations == 0)
@@ -184,7 +177,7 @@ template <int Rotations>
 inline void generalizedVelocity(const BodyState& s, const BodyType& type, double* u) {
     OpenMM::Vec3 vb = toBody(s.rotation, s.velocity);
     for (int i = 0; i < 3+Rotations; i++) {
-        int k = activeCoordinate<Rotations>(i);
+        int k = activeCoordinate(Rotations, i);
         u[i] = (k < 3 ? vb[k] : s.angularMomentum[k-3]/type.inertia[k-3]);
     }
 }
@@ -258,7 +251,7 @@ void exactFlowOf(BodyState& s, const BodyType& type, const TypeStepCoefficients&
     multiply<Dof>(c.fromModes, c.frictionClass, y, displacement);
     OpenMM::Vec3 dx, vb, j, theta;
     for (int i = 0; i < Dof; i++) {
-        int k = activeCoordinate<Rotations>(i);
+        int k = activeCoordinate(Rotations, i);
         if (k < 3) {
             dx[k] = displacement[i];
             vb[k] = u[i];
@@ -277,7 +270,7 @@ void exactFlowOf(BodyState& s, const BodyType& type, const TypeStepCoefficients&
     multiply<Dof>(c.fromModes, c.frictionClass, mid, midVelocity);
     OpenMM::Vec3 vMid, wMid;  // mid-step velocities, scaled by their drive fractions
     for (int i = 0; i < Dof; i++) {
-        int k = activeCoordinate<Rotations>(i);
+        int k = activeCoordinate(Rotations, i);
         if (k < 3)
             vMid[k] = c.driveFraction[k]*midVelocity[i];
         else
@@ -332,7 +325,7 @@ void ornsteinUhlenbeckOf(BodyState& s, const BodyType& type, const TypeStepCoeff
     multiply<Dof>(c.fromModes, c.frictionClass, a, u);
     OpenMM::Vec3 vb;
     for (int i = 0; i < Dof; i++) {
-        int k = activeCoordinate<Rotations>(i);
+        int k = activeCoordinate(Rotations, i);
         if (k < 3)
             vb[k] = u[i];
         else
@@ -373,7 +366,7 @@ void originalStepOf(BodyState& s, const BodyType& type, const TypeStepCoefficien
     generalizedVelocity<Rotations>(s, type, uHalf);
     OpenMM::Vec3 fb = toBody(s.rotation, force);
     for (int i = 0; i < Dof; i++) {
-        int k = activeCoordinate<Rotations>(i);
+        int k = activeCoordinate(Rotations, i);
         g[i] = (k < 3 ? fb[k] : bodyTorque[k-3]);
         noise[i] = random.next();
     }
@@ -403,7 +396,7 @@ void originalStepOf(BodyState& s, const BodyType& type, const TypeStepCoefficien
         for (int j = 0; j < Dof; j++)
             friction += c.friction(i, j)*u[j];
         totalForce[i] = g[i]-friction;
-        int k = activeCoordinate<Rotations>(i);
+        int k = activeCoordinate(Rotations, i);
         if (k < 3) {
             vb[k] = u[i];
             fTotal[k] = totalForce[i];

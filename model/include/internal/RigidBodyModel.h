@@ -30,6 +30,17 @@ enum class FrictionClass {
 };
 
 /**
+ * The generalized coordinate (0-2 translation, 3-5 rotation about body axes 0-2) of active
+ * coordinate i of a body with numRotations rotating axes (0, 2 or 3): the three translations, then
+ * rotation about the last numRotations body axes (BodyType::rotates). The step coefficients are laid
+ * out in this order, and the flows (BodyDynamics.h) walk it with numRotations a template argument,
+ * so that their loops unroll. The common kernels (rigidBodyStep.cc) follow the same rule.
+ */
+constexpr int activeCoordinate(int numRotations, int i) {
+    return (i < 3 ? i : i+3-numRotations);
+}
+
+/**
  * The shape, mass properties and friction shared by all bodies of one type. Coordinates are in the
  * body frame: origin at the centre of mass, axes along the principal axes of inertia with the
  * moments in ascending order. A linear body rotates about axes 1 and 2 only; a body whose mass is
@@ -58,7 +69,7 @@ struct BodyType {
     bool rotates(int axis) const {
         return axis >= 3-numRotations;
     }
-    /** The generalized coordinates (0-2 translation, 3-5 rotation about the body axes) that move. */
+    /** The generalized coordinates (0-2 translation, 3-5 rotation about the body axes) that move, in order (activeCoordinate). */
     std::vector<int> getActiveCoordinates() const;
 };
 

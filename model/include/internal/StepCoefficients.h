@@ -54,7 +54,7 @@ inline double velocityTimeOffset(SplittingScheme scheme, double viscosity, doubl
  * temperature, viscosity and step size. Generalized coordinates are the active ones of the type
  * (BodyType::getActiveCoordinates(): translation in the body frame, then rotation about the body
  * axes that rotate), BodyType::getNumDegreesOfFreedom() of them; matrices fill their top-left
- * block of that size, in that order (BodyDynamics::activeCoordinate).
+ * block of that size, in that order (activeCoordinate in RigidBodyModel.h).
  *
  * With W = M^1/2 U (U the generalized velocity, M the mass matrix) and K = M^-1/2 (viscosity Xi)
  * M^-1/2 = S diag(lambda) S^T, the modes are a = S^T W: toModes = S^T M^1/2 and
