@@ -12,6 +12,9 @@ using namespace RigidLangevinPlugin;
 using namespace OpenMM;
 using std::vector;
 
+// The host step's one instantiation for the CPU platform (see CpuRigidLangevinKernels.h).
+template class RigidLangevinPlugin::HostRigidLangevinStepKernel<ZigguratGaussianRandom>;
+
 namespace {
 
 /**

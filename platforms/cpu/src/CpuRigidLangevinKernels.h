@@ -8,6 +8,10 @@
 
 namespace RigidLangevinPlugin {
 
+// The host step is compiled in CpuRigidLangevinKernels.cpp alone; the factory, which only creates
+// the kernel, would otherwise compile all of it again.
+extern template class HostRigidLangevinStepKernel<ZigguratGaussianRandom>;
+
 /**
  * The CPU platform's implementation of RigidLangevinIntegrator: the host step shared with the
  * Reference platform (HostRigidLangevinStepKernel, double precision), threaded with the CPU

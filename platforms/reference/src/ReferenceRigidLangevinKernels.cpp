@@ -3,6 +3,9 @@
 using namespace RigidLangevinPlugin;
 using namespace OpenMM;
 
+// The host step's one instantiation for the Reference platform (see ReferenceRigidLangevinKernels.h).
+template class RigidLangevinPlugin::HostRigidLangevinStepKernel<GaussianRandom>;
+
 void ReferenceIntegrateRigidLangevinStepKernel::initialize(const System& system, const RigidLangevinIntegrator& integrator) {
     RigidLangevinStepKernelBase::initialize(system, integrator);
     std::vector<std::unique_ptr<RandomStream> > streams;

@@ -7,6 +7,10 @@
 
 namespace RigidLangevinPlugin {
 
+// The host step is compiled in ReferenceRigidLangevinKernels.cpp alone; the factory, which only
+// creates the kernel, would otherwise compile all of it again.
+extern template class HostRigidLangevinStepKernel<GaussianRandom>;
+
 /**
  * The Reference implementation of RigidLangevinIntegrator: the host step (HostRigidLangevinStepKernel)
  * in double precision, all bodies as one chunk on the calling thread, with OpenMM's SFMT generator
