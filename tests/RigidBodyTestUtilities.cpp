@@ -42,10 +42,8 @@ MeasuredBody BodyShape::measure(const std::vector<Vec3>& pos, const std::vector<
     b.velocity /= mass;
     Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
     Eigen::Vector3d angular = Eigen::Vector3d::Zero();
-    std::vector<Eigen::Vector3d> offsets;
     for (int i = 0; i < n; i++) {
         Eigen::Vector3d d = toEigen(pos[firstParticle+i])-b.com;
-        offsets.push_back(d);
         h += reference[i]*d.transpose();
         angular += masses[i]*d.cross(toEigen(vel[firstParticle+i])-b.velocity);
     }
@@ -142,13 +140,18 @@ Eigen::Vector3d centerOfDiffusion(const Eigen::Matrix<double, 6, 6>& mu) {
     return -hessian.ldlt().solve(gradient);
 }
 
-double energyFluctuation(OpenMM::Context& context, OpenMM::Integrator& integrator, int every, int samples) {
+std::vector<double> sampleTotalEnergy(OpenMM::Context& context, OpenMM::Integrator& integrator, int every, int samples) {
     std::vector<double> energy;
     for (int i = 0; i < samples; i++) {
         integrator.step(every);
         OpenMM::State s = context.getState(OpenMM::State::Energy);
         energy.push_back(s.getKineticEnergy()+s.getPotentialEnergy());
     }
+    return energy;
+}
+
+double energyFluctuation(OpenMM::Context& context, OpenMM::Integrator& integrator, int every, int samples) {
+    std::vector<double> energy = sampleTotalEnergy(context, integrator, every, samples);
     double mean = 0, square = 0;
     for (double e : energy)
         mean += e/samples;

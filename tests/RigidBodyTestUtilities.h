@@ -152,6 +152,9 @@ Series averageOverBodyGroups(int numGroups, int numBodies, int numSamples, int l
     return s;
 }
 
+/** The total energy (kinetic plus potential) after each of `samples` runs of `every` steps. */
+std::vector<double> sampleTotalEnergy(OpenMM::Context& context, OpenMM::Integrator& integrator, int every, int samples);
+
 /**
  * The standard deviation of the total energy sampled `samples` times, `every` steps apart: the
  * energy error of a run without friction.

@@ -375,12 +375,7 @@ TEST_P(StickyDipoleForceTest, RigidWatersConserveEnergyWithoutFriction) {
             context->setVelocitiesToTemperature(300, seed);
             // 2 ps, sampled every 10 fs.
             int every = (int) std::round(0.01/steps[k]);
-            std::vector<double> energy;
-            for (int i = 0; i < Samples; i++) {
-                integrator.step(every);
-                State state = context->getState(State::Energy);
-                energy.push_back(state.getKineticEnergy()+state.getPotentialEnergy());
-            }
+            std::vector<double> energy = sampleTotalEnergy(*context, integrator, every, Samples);
             double mean = 0, square = 0, slope = 0, times = 0;
             for (double e : energy)
                 mean += e/Samples;
