@@ -209,7 +209,7 @@ PROFILES = [('H100, before (61978fa)', 'gpu_h100/gpu_bandwidth_before.csv', 'mix
             ('H200, 07d6a90, single', 'gpu_h200/gpu_bandwidth_single.csv', 'single', common_current)]
 
 # Where each machine's integrator_cost.py times are, and the model of the kernels they timed.
-TIMED = [('this machine (CPU and PoCL; kernels of 51850f7)', 'integrator_cost.csv', [('CPU', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')], common_current),
+TIMED = [('this machine (CPU and PoCL; kernels of 84c33cd)', 'integrator_cost.csv', [('CPU', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')], common_current),
          ('H100 (kernels of 3ed7dd0)', 'gpu_h100/integrator_cost_3ed7dd0.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_fused),
          ('H100 (kernels of 2715354, today)', 'gpu_h100/integrator_cost.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_current),
          ('H200 (kernels of b9f060f)', 'gpu_h200/integrator_cost.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_h200)]
