@@ -29,4 +29,4 @@ printf 'leak:registerRigidLangevinSerializationProxies\nleak:libOpenMM\nleak:lib
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$BUILD/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
-ctest --output-on-failure -j "$JOBS" -E "TestOpenCL|TestCuda"
+ctest --output-on-failure -j "$JOBS"
