@@ -50,6 +50,7 @@ def main():
     parser.add_argument('--box', type=float, default=5.0, help='box edge in nm (5 nm: about 4100 waters)')
     parser.add_argument('--platforms', nargs='+', default=['CPU', 'OpenCL', 'CUDA'])
     parser.add_argument('--steps', type=int, default=0, help='steps per timing block (default: by platform)')
+    parser.add_argument('--precisions', nargs='+', default=['single', 'mixed'], help='GPU precisions (double too on a GPU machine)')
     parser.add_argument('--name', default='water_box', help='results/<name>.csv and .png (e.g. water_box_gpu for a GPU machine)')
     args = parser.parse_args()
     system, positions, waters = build_water_box(args.box)
@@ -60,7 +61,7 @@ def main():
         if status is not None:
             rows.append({'platform': name, 'precision': '-', 'note': status})
             continue
-        precisions = ['single', 'mixed'] if name in ('OpenCL', 'CUDA') else ['']
+        precisions = args.precisions if name in ('OpenCL', 'CUDA') else ['']
         for precision in precisions:
             properties = {'Precision': precision} if precision else {}
             steps = args.steps or (100 if name == 'CUDA' else 40)
