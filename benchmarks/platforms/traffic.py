@@ -17,7 +17,8 @@ when a State asks for them) are listed apart.
 
 Measured: per-kernel DRAM bytes on an H100 and an H200 (Nsight Compute, 1e6 water-shaped bodies;
 PROFILES below: on the H100 before the kernels were rewritten, after each step of the rewrite and
-today's, on the H200 the kernels of b9f060f and 07d6a90) and the time per body-step of
+those of 2715354, on the H200 the kernels of b9f060f, 07d6a90 and 84c33cd, the last in double precision
+too) and the time per body-step of
 integrator_cost.py (results/integrator_cost.csv, results/*/integrator_cost*.csv) divided into
 the modelled bytes: the bandwidth a kernel achieves.
 
@@ -195,24 +196,29 @@ def profile_rows(path):
 
 # The GPU profiles (CUDA, 1e6 three-particle bodies), each with the model of the kernels profiled: on
 # the H100 before any change, after the step kernels kept their arrays in registers (97e1b74), with
-# the step and the placement fused into one pass (3ed7dd0), and today's; on the H200 those of
-# b9f060f (cell offsets read in any box) and of 07d6a90, which the model of today's kernels describes.
+# the step and the placement fused into one pass (3ed7dd0), and those of 2715354; on the H200 those of
+# b9f060f (cell offsets read in any box), of 07d6a90 and of 84c33cd (today's: mixed and double), which
+# the model of today's kernels describes (the step's bytes did not change after 07d6a90).
 PROFILES = [('H100, before (61978fa)', 'gpu_h100/gpu_bandwidth_before.csv', 'mixed', common_before),
             ('H100, registers (97e1b74)', 'gpu_h100/gpu_bandwidth_registers.csv', 'mixed', common_before),
             ('H100, fused (3ed7dd0), mixed', 'gpu_h100/gpu_bandwidth_3ed7dd0.csv', 'mixed', common_fused),
             ('H100, fused (3ed7dd0), single', 'gpu_h100/gpu_bandwidth_single_3ed7dd0.csv', 'single', common_fused),
-            ('H100, today, mixed', 'gpu_h100/gpu_bandwidth.csv', 'mixed', common_current),
-            ('H100, today, single', 'gpu_h100/gpu_bandwidth_single.csv', 'single', common_current),
+            ('H100, 2715354, mixed', 'gpu_h100/gpu_bandwidth.csv', 'mixed', common_current),
+            ('H100, 2715354, single', 'gpu_h100/gpu_bandwidth_single.csv', 'single', common_current),
             ('H200, b9f060f, mixed', 'gpu_h200/gpu_bandwidth_b9f060f.csv', 'mixed', common_h200),
             ('H200, b9f060f, single', 'gpu_h200/gpu_bandwidth_single_b9f060f.csv', 'single', common_h200),
-            ('H200, 07d6a90, mixed', 'gpu_h200/gpu_bandwidth.csv', 'mixed', common_current),
-            ('H200, 07d6a90, single', 'gpu_h200/gpu_bandwidth_single.csv', 'single', common_current)]
+            ('H200, 07d6a90, mixed', 'gpu_h200/gpu_bandwidth_07d6a90.csv', 'mixed', common_current),
+            ('H200, 07d6a90, single', 'gpu_h200/gpu_bandwidth_single_07d6a90.csv', 'single', common_current),
+            ('H200, 84c33cd (today), mixed', 'gpu_h200/gpu_bandwidth.csv', 'mixed', common_current),
+            ('H200, 84c33cd (today), double', 'gpu_h200/gpu_bandwidth_double.csv', 'double', common_current)]
 
 # Where each machine's integrator_cost.py times are, and the model of the kernels they timed.
 TIMED = [('this machine (CPU and PoCL; kernels of 84c33cd)', 'integrator_cost.csv', [('CPU', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')], common_current),
          ('H100 (kernels of 3ed7dd0)', 'gpu_h100/integrator_cost_3ed7dd0.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_fused),
-         ('H100 (kernels of 2715354, today)', 'gpu_h100/integrator_cost.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_current),
-         ('H200 (kernels of b9f060f)', 'gpu_h200/integrator_cost.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_h200)]
+         ('H100 (kernels of 2715354)', 'gpu_h100/integrator_cost.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_current),
+         ('H200 (kernels of b9f060f)', 'gpu_h200/integrator_cost_b9f060f.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_h200),
+         ('H200 (kernels of 84c33cd, today; OpenCL is NVIDIA\'s)', 'gpu_h200/integrator_cost.csv',
+          [('CUDA', 'single'), ('CUDA', 'mixed'), ('CUDA', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')], common_current)]
 
 
 def main(argv=None):
