@@ -166,6 +166,13 @@ void getParticles(OpenMM::Context& context, std::vector<Vec3>& pos, std::vector<
     vel = state.getVelocities();
 }
 
+double maxDistance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    double worst = 0;
+    for (int i = 0; i < (int) a.size(); i++)
+        worst = std::max(worst, std::sqrt((a[i]-b[i]).dot(a[i]-b[i])));
+    return worst;
+}
+
 std::ostream& operator<<(std::ostream& out, const PlatformConfig& config) {
     return out << config.name();
 }

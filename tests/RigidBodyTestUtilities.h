@@ -164,6 +164,9 @@ double energyFluctuation(OpenMM::Context& context, OpenMM::Integrator& integrato
 /** Every body's state from a Context: positions and velocities of all particles. */
 void getParticles(OpenMM::Context& context, std::vector<Vec3>& pos, std::vector<Vec3>& vel);
 
+/** The largest distance between corresponding positions of two configurations. */
+double maxDistance(const std::vector<Vec3>& a, const std::vector<Vec3>& b);
+
 /** A platform and the precision to run it in. */
 struct PlatformConfig {
     std::string platform;

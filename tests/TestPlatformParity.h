@@ -64,13 +64,6 @@ std::vector<Vec3> trajectoryEnd(const PlatformConfig& config, const ParityRun& r
     return context->getState(State::Positions).getPositions();
 }
 
-double maxDistance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-    double worst = 0;
-    for (int i = 0; i < (int) a.size(); i++)
-        worst = std::max(worst, std::sqrt((a[i]-b[i]).dot(a[i]-b[i])));
-    return worst;
-}
-
 const ParityRun runs[] = {
     {RigidLangevinIntegrator::ExactFlow, 300, 0},
     {RigidLangevinIntegrator::BAOAB, 300, 0},
