@@ -6,7 +6,7 @@
 # their kernels are not host code (PoCL compiles them with its own LLVM at run time), and their
 # runners that reach into OpenMM's OpenCLContext do not link under UBSan's vptr check (the OpenMM
 # wheel exports no typeinfo for it). Nor is the host step's baseline clone run under QEMU
-# (TestCpuHostClonesBaseline): a sanitized executable does not run under the emulator.
+# (TestCpuHostClonesBaseline): an AddressSanitizer build of a test did not finish under it in 120 s.
 #
 #   bash scripts/sanitize.sh        # after scripts/setup.sh (uses its virtual environment's OpenMM)
 set -euo pipefail
