@@ -14,6 +14,7 @@
 #include "openmm/CustomBondForce.h"
 #include "openmm/NonbondedForce.h"
 #include <Eigen/Geometry>
+#include <memory>
 
 namespace RigidBodyTest {
 
@@ -117,6 +118,35 @@ struct LennardJonesCluster {
         }
     }
 };
+
+/**
+ * Positions after numSteps steps of 2 fs of the cluster with a body of every other kind, in the
+ * given scheme, temperature and viscosity (random number seed 3), from velocities drawn at 300 K on
+ * the Reference platform (seed 17), so that every platform starts from the same ones; body 0
+ * displaced rigidly along x by displacement (its particles' fit moves the centre).
+ */
+inline std::vector<Vec3> clusterTrajectoryEnd(const PlatformConfig& config, RigidLangevinPlugin::RigidLangevinIntegrator::Scheme scheme,
+        double temperature, double viscosity, LennardJonesCluster::Interaction interaction, int numSteps, double displacement = 0) {
+    LennardJonesCluster cluster(interaction, true);
+    RigidLangevinPlugin::RigidLangevinIntegrator integrator(temperature, viscosity, 0.002);
+    integrator.setScheme(scheme);
+    integrator.setRandomNumberSeed(3);
+    cluster.addBodies(integrator);
+    std::unique_ptr<OpenMM::Context> context(createContext(cluster.system, integrator, config));
+    std::vector<Vec3> positions = cluster.positions;
+    for (int p = 0; p < 4; p++)
+        positions[p][0] += displacement;
+    context->setPositions(positions);
+    LennardJonesCluster referenceCluster(interaction, true);
+    RigidLangevinPlugin::RigidLangevinIntegrator referenceIntegrator(300, 0, 0.002);
+    referenceCluster.addBodies(referenceIntegrator);
+    OpenMM::Context reference(referenceCluster.system, referenceIntegrator, OpenMM::Platform::getPlatformByName("Reference"));
+    reference.setPositions(positions);
+    reference.setVelocitiesToTemperature(300, 17);
+    context->setVelocities(reference.getState(OpenMM::State::Velocities).getVelocities());
+    integrator.step(numSteps);
+    return context->getState(OpenMM::State::Positions).getPositions();
+}
 
 } // namespace RigidBodyTest
 

@@ -38,32 +38,6 @@ struct ParityRun {
     }
 };
 
-/** Positions after NumSteps steps, from the cluster with velocities drawn at 300 K with a fixed seed. */
-std::vector<Vec3> trajectoryEnd(const PlatformConfig& config, const ParityRun& run, LennardJonesCluster::Interaction interaction, double perturbation = 0) {
-    LennardJonesCluster cluster(interaction, true);
-    RigidLangevinIntegrator integrator(run.temperature, run.viscosity, 0.002);
-    integrator.setScheme(run.scheme);
-    integrator.setRandomNumberSeed(3);
-    cluster.addBodies(integrator);
-    std::unique_ptr<Context> context(createContext(cluster.system, integrator, config));
-    std::vector<Vec3> positions = cluster.positions;
-    positions[0][0] += perturbation;  // displaces body 0 rigidly: its particles' fit moves the centre
-    positions[1][0] += perturbation;
-    positions[2][0] += perturbation;
-    positions[3][0] += perturbation;
-    context->setPositions(positions);
-    // Velocities drawn on the Reference platform, so that every platform starts from the same ones.
-    LennardJonesCluster referenceCluster(interaction, true);
-    RigidLangevinIntegrator referenceIntegrator(300, 0, 0.002);
-    referenceCluster.addBodies(referenceIntegrator);
-    Context reference(referenceCluster.system, referenceIntegrator, Platform::getPlatformByName("Reference"));
-    reference.setPositions(positions);
-    reference.setVelocitiesToTemperature(300, 17);
-    context->setVelocities(reference.getState(State::Velocities).getVelocities());
-    integrator.step(NumSteps);
-    return context->getState(State::Positions).getPositions();
-}
-
 const ParityRun runs[] = {
     {RigidLangevinIntegrator::ExactFlow, 300, 0},
     {RigidLangevinIntegrator::BAOAB, 300, 0},
@@ -87,11 +61,11 @@ PlatformConfig referenceConfig() {
  */
 void checkParity(const PlatformConfig& config, const ParityRun& run, LennardJonesCluster::Interaction interaction, bool exact) {
     PlatformConfig reference = referenceConfig();
-    std::vector<Vec3> expected = trajectoryEnd(reference, run, interaction);
+    std::vector<Vec3> expected = clusterTrajectoryEnd(reference, run.scheme, run.temperature, run.viscosity, interaction, NumSteps);
     double displacement = (exact ? 1e-9 : 1e-5);
-    double spread = maxDistance(expected, trajectoryEnd(reference, run, interaction, displacement));
+    double spread = maxDistance(expected, clusterTrajectoryEnd(reference, run.scheme, run.temperature, run.viscosity, interaction, NumSteps, displacement));
     double tolerance = std::max(spread, exact ? 1e-9 : 1e-4);
-    double distance = maxDistance(expected, trajectoryEnd(config, run, interaction));
+    double distance = maxDistance(expected, clusterTrajectoryEnd(config, run.scheme, run.temperature, run.viscosity, interaction, NumSteps));
     std::cout << config.name() << (interaction == LennardJonesCluster::Nonbonded ? " (NonbondedForce)" : "") << ", " << run.describe()
               << ": largest distance from Reference after " << NumSteps << " steps " << distance << " nm; Reference from a start "
               << displacement << " nm away: " << spread << " nm" << std::endl;

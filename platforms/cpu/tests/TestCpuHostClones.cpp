@@ -11,10 +11,10 @@
  * Tolerance. The clones differ only in rounding: the x86-64-v3 clone fuses a*b+c into one
  * operation (a rounding of ~1e-16 relative less), and the random numbers are the same (one seed,
  * one generator). Rounding differences grow with the cluster's chaos, so each recorded run also
- * records how far its own trajectory moves from a start displaced by 1e-12 nm (3e-12 to 5e-11 nm
+ * records how far its own trajectory moves from a start displaced by 1e-12 nm (2e-12 to 5e-11 nm
  * after 500 steps); the baseline must stay within ten times that, with a floor of 1e-11 nm. Measured
- * on an AVX2 machine, the baseline clone ended 2e-14 to 3e-12 nm from the native one; a force 1e-6
- * too large in the baseline clone alone ended 7e-7 to 1e-5 nm away, and fails.
+ * on an AVX2 machine, the baseline clone ended 3e-14 to 4e-12 nm from the native one; a force 1e-6
+ * too large in the baseline clone alone ended 5e-7 to 1e-5 nm away, and fails.
  */
 #include "CpuTests.h"
 #include "LennardJonesCluster.h"
@@ -22,7 +22,6 @@
 #include <cstdlib>
 #include <fstream>
 #include <iomanip>
-#include <sstream>
 
 using namespace OpenMM;
 using namespace RigidLangevinPlugin;
@@ -59,24 +58,12 @@ std::vector<CloneRun> runs() {
     return all;
 }
 
-/** Positions after NumSteps steps at 300 K from the cluster, velocities drawn with a fixed seed. */
+/** Positions after NumSteps steps of the run, from the start displaced by displacement. */
 std::vector<Vec3> trajectoryEnd(const CloneRun& run, double displacement = 0) {
-    LennardJonesCluster cluster(LennardJonesCluster::PairBonds, true);
-    RigidLangevinIntegrator integrator(300, run.viscosity, 0.002);
-    integrator.setScheme(run.scheme);
-    integrator.setRandomNumberSeed(5);
-    cluster.addBodies(integrator);
-    std::map<std::string, std::string> properties;
-    if (run.platform == "CPU")
-        properties["Threads"] = "1";
-    Context context(cluster.system, integrator, Platform::getPlatformByName(run.platform), properties);
-    std::vector<Vec3> positions = cluster.positions;
-    for (int p = 0; p < 4; p++)
-        positions[p][0] += displacement;  // body 0, rigidly
-    context.setPositions(positions);
-    context.setVelocitiesToTemperature(300, 17);
-    integrator.step(NumSteps);
-    return context.getState(State::Positions).getPositions();
+    PlatformConfig config;
+    config.platform = run.platform;
+    config.precision = "double";
+    return clusterTrajectoryEnd(config, run.scheme, 300, run.viscosity, LennardJonesCluster::PairBonds, NumSteps, displacement);
 }
 
 struct Recorded {
