@@ -5,8 +5,8 @@
 # invalid shifts and casts. Any report fails the run. The OpenCL and CUDA platforms are not built:
 # their kernels are not host code (PoCL compiles them with its own LLVM at run time), and their
 # runners that reach into OpenMM's OpenCLContext do not link under UBSan's vptr check (the OpenMM
-# wheel exports no typeinfo for it). Nor is the host step's baseline clone run under QEMU
-# (TestCpuHostClonesBaseline): an AddressSanitizer build of a test did not finish under it in 120 s.
+# wheel exports no typeinfo for it). Nor are the host code's baseline builds run under QEMU
+# (TestCpu*Baseline): an AddressSanitizer build of a test did not finish under it in 120 s.
 #
 #   bash scripts/sanitize.sh        # after scripts/setup.sh (uses its virtual environment's OpenMM)
 set -euo pipefail

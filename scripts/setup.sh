@@ -18,8 +18,9 @@ fail() { echo "setup.sh: FAILED while $current_step${1:+: $1}" >&2; exit 1; }
 trap 'fail' ERR
 step() { current_step="$1"; echo "==> $1"; }
 
-# 1. System packages (Debian). Only the missing ones are installed. qemu-user runs the host step's
-# baseline (non-AVX2) build under emulation for TestCpuHostClonesBaseline.
+# 1. System packages (Debian). Only the missing ones are installed. qemu-user runs the host code's
+# baseline (non-AVX2) builds under emulation for TestCpuHostClonesBaseline and
+# TestCpuStickyDipoleForceBaseline.
 APT_PACKAGES=(build-essential cmake ninja-build libeigen3-dev libgtest-dev librandom123-dev
               ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
               libopenmpi-dev openmpi-bin qemu-user)
