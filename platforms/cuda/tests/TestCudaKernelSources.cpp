@@ -6,6 +6,11 @@
  * NVRTC. NVRTC needs no GPU, so this runs wherever the CUDA toolkit is installed; the tests that
  * run the CUDA platform (the other runners in this directory) need a GPU.
  *
+ * The step kernels must also keep every per-body array in registers: NVRTC's PTX may declare no
+ * local memory (.local) in them. 97e1b74 brought the step kernel from 1329 to 653 bytes per
+ * body-step on an H100 by that alone, and a loop with a runtime bound over an array (the random
+ * numbers' with randomPerBody as its bound, say) puts the array back in local memory.
+ *
  * libOpenMMCUDA is opened with the CUDA driver library present; without a driver the build points
  * it to the toolkit's stub (platforms/cuda/tests/CMakeLists.txt), which is enough to read its strings. The test
  * is skipped only where OpenMM's CUDA platform library is not installed at all; one that is there
@@ -16,6 +21,7 @@
 #include <dlfcn.h>
 #include <unistd.h>
 #include <gtest/gtest.h>
+#include <map>
 #include <nvrtc.h>
 #include <sstream>
 #include <string>
@@ -107,6 +113,30 @@ std::string compositeSource(const CudaPrelude& prelude, const std::string& preci
     return src.str();
 }
 
+/**
+ * The step kernels (entries named step*) in a PTX module, each with its local-memory declarations
+ * (arrays the compiler could not keep in registers), empty where it has none.
+ */
+std::map<std::string, std::string> stepKernelLocalMemory(const std::string& ptx) {
+    std::map<std::string, std::string> kernels;
+    std::istringstream lines(ptx);
+    std::string line, current;
+    while (std::getline(lines, line)) {
+        size_t entry = line.find(".entry ");
+        if (entry != std::string::npos) {
+            std::string name = line.substr(entry+7, line.find('(', entry)-entry-7);
+            current = (name.compare(0, 4, "step") == 0 ? name : "");
+            if (!current.empty())
+                kernels[current];
+        }
+        else if (line.find(".func") != std::string::npos && line.find("call") == std::string::npos)
+            current = "";  // a device function's own body (CUDA's slow path of sin and cos has one)
+        else if (!current.empty() && line.find(".local .align") != std::string::npos)
+            kernels[current] += line.substr(line.find_first_not_of(" \t"))+"\n";  // e.g. ".local .align 16 .b8 __local_depot5[96];"
+    }
+    return kernels;
+}
+
 } // namespace
 
 TEST(CudaKernelSources, CompileInEveryPrecisionAndScheme) {
@@ -132,8 +162,20 @@ TEST(CudaKernelSources, CompileInEveryPrecisionAndScheme) {
         nvrtcGetProgramLogSize(program, &logSize);
         std::string log(logSize, '\0');
         nvrtcGetProgramLog(program, &log[0]);
+        std::string ptx;
+        if (result == NVRTC_SUCCESS) {
+            size_t ptxSize;
+            nvrtcGetPTXSize(program, &ptxSize);
+            ptx.resize(ptxSize);
+            nvrtcGetPTX(program, &ptx[0]);
+        }
         nvrtcDestroyProgram(&program);
-        EXPECT_EQ(NVRTC_SUCCESS, result) << log;
-        std::cout << precision << " precision, scheme " << scheme << ": compiled for " << arch << std::endl;
+        ASSERT_EQ(NVRTC_SUCCESS, result) << log;
+        std::map<std::string, std::string> kernels = stepKernelLocalMemory(ptx);
+        EXPECT_EQ(7, kernels.size()) << "step kernels found in the PTX";
+        for (auto& kernel : kernels)
+            EXPECT_EQ("", kernel.second) << kernel.first << " keeps arrays in local memory";
+        std::cout << precision << " precision, scheme " << scheme << ": compiled for " << arch << ", " << kernels.size()
+                  << " step kernels without local memory" << std::endl;
     }
 }
