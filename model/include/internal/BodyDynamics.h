@@ -114,6 +114,20 @@ inline void removeAxialComponent(const BodyType& type, OpenMM::Vec3& v) {
             v[k] = 0;
 }
 
+/** The body axes of the DLM splitting's sub-rotations (freeRotate): x, y, z, y, x. */
+const int DlmAxes[5] = {0, 1, 2, 1, 0};
+
+/**
+ * The angle per unit of drive of each DLM sub-rotation over dt, computed before the chain of
+ * sub-rotations (each waits for the one before) so that no division sits on it.
+ */
+inline void dlmRates(const BodyType& type, double dt, double rate[5]) {
+    const double half = 0.5*dt;
+    rate[0] = rate[4] = half/type.inertia[0];
+    rate[1] = rate[3] = half/type.inertia[1];
+    rate[2] = dt/type.inertia[2];
+}
+
 /**
  * The free rotation of a body over a time dt, driven by the body-frame angular momentum `drive`
  * (rotated along, like the `carried` vectors). For a body with three moments this is the symmetric
@@ -134,15 +148,34 @@ inline void freeRotate(double q[3][3], const BodyType& type, double dt, OpenMM::
             removeAxialComponent(type, vectors[i]);
     }
     else {
-        // Angle per unit of drive of each sub-rotation, computed before the chain of sub-rotations
-        // (each waits for the one before) so that no division sits on it.
-        const double half = 0.5*dt;
-        const double rate[5] = {half/type.inertia[0], half/type.inertia[1], dt/type.inertia[2], half/type.inertia[1], half/type.inertia[0]};
-        static const int axes[5] = {0, 1, 2, 1, 0};
-        for (int s = 0; s < 5; s++) {
-            int axis = axes[s];
-            rotateAboutAxis(q, axis, rate[s]*vectors[0][axis], vectors, numCarried+1);
-        }
+        double rate[5];
+        dlmRates(type, dt, rate);
+        for (int s = 0; s < 5; s++)
+            rotateAboutAxis(q, DlmAxes[s], rate[s]*vectors[0][DlmAxes[s]], vectors, numCarried+1);
+    }
+    drive = vectors[0];
+    for (int i = 0; i < numCarried; i++)
+        carried[i] = vectors[i+1];
+}
+
+/**
+ * Two free rotations of a body with three moments over dt, with the results of
+ * freeRotate(q, type, dt, frameDrive, NULL, 0) and freeRotate(nullptr, type, dt, drive, carried,
+ * numCarried) bit for bit, their sub-rotations interleaved. Each sub-rotation waits for the one
+ * before (its angle comes from the drive that one turned), so one chain alone leaves the processor
+ * waiting; two independent chains side by side fill those waits.
+ */
+inline void freeRotateFrameAndVectors(double q[3][3], const BodyType& type, double dt, OpenMM::Vec3& frameDrive, OpenMM::Vec3& drive,
+                                      OpenMM::Vec3* carried, int numCarried) {
+    OpenMM::Vec3 vectors[3];
+    vectors[0] = drive;
+    for (int i = 0; i < numCarried; i++)
+        vectors[i+1] = carried[i];
+    double rate[5];
+    dlmRates(type, dt, rate);
+    for (int s = 0; s < 5; s++) {
+        rotateAboutAxis(q, DlmAxes[s], rate[s]*frameDrive[DlmAxes[s]], &frameDrive, 1);
+        rotateAboutAxis(nullptr, DlmAxes[s], rate[s]*vectors[0][DlmAxes[s]], vectors, numCarried+1);
     }
     drive = vectors[0];
     for (int i = 0; i < numCarried; i++)
@@ -282,14 +315,13 @@ void exactFlowOf(BodyState& s, const BodyType& type, const TypeStepCoefficients&
         drive[k] = type.inertia[k]*wMid[k];
         rest[k] = 0.5*(theta[k]-h*wMid[k]);
     }
-    rotateByVector(s.rotation, rest, &drive, 1);
-    freeRotate(s.rotation, type, h, drive, NULL, 0);
-    rotateByVector(s.rotation, rest, NULL, 0);
     OpenMM::Vec3 jDrive;
     for (int k = 0; k < 3; k++)
         jDrive[k] = c.driveFraction[3+k]*j[k];
-    // The vectors alone turn: the frame they turn into is the body's new one.
+    // The frame turns; the vectors alone turn too, into the body's new frame.
+    rotateByVector(s.rotation, rest, &drive, 1);
     if (Rotations == 2) {
+        freeRotate(s.rotation, type, h, drive, NULL, 0);
         // A linear body's velocity keeps its axial component: it turns by the same exact rotation.
         OpenMM::Vec3 phi(0, h*jDrive[1]/type.inertia[1], h*jDrive[2]/type.inertia[2]);
         rotateByVector(nullptr, phi, &vb, 1);
@@ -297,10 +329,11 @@ void exactFlowOf(BodyState& s, const BodyType& type, const TypeStepCoefficients&
     }
     else {
         OpenMM::Vec3 turned[2] = {j, vb};
-        freeRotate(nullptr, type, h, jDrive, turned, 2);
+        freeRotateFrameAndVectors(s.rotation, type, h, drive, jDrive, turned, 2);
         j = turned[0];
         vb = turned[1];
     }
+    rotateByVector(s.rotation, rest, NULL, 0);
     s.velocity = toLab(s.rotation, vb);
     s.angularMomentum = j;
     removeAxialComponent(type, s.angularMomentum);
