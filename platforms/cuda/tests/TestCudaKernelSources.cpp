@@ -170,9 +170,11 @@ TEST(CudaKernelSources, CompileInEveryPrecisionAndScheme) {
             nvrtcGetPTX(program, &ptx[0]);
         }
         nvrtcDestroyProgram(&program);
-        ASSERT_EQ(NVRTC_SUCCESS, result) << log;
+        EXPECT_EQ(NVRTC_SUCCESS, result) << log;
+        if (result != NVRTC_SUCCESS)
+            continue;
         std::map<std::string, std::string> kernels = stepKernelLocalMemory(ptx);
-        EXPECT_EQ(7, kernels.size()) << "step kernels found in the PTX";
+        EXPECT_EQ((size_t) 7, kernels.size()) << "step kernels found in the PTX";
         for (auto& kernel : kernels)
             EXPECT_EQ("", kernel.second) << kernel.first << " keeps arrays in local memory";
         std::cout << precision << " precision, scheme " << scheme << ": compiled for " << arch << ", " << kernels.size()
