@@ -132,26 +132,24 @@ TEST(Rotations, InterleavedRotationsAreTheSeparateOnes) {
     type.numRotations = 3;
     type.inertia = Vec3(0.7, 1.3, 2.2);
     for (double scale : {0.05, 5.0}) {
-        Vec3 frameDrive = Vec3(0.3, -0.2, 0.5)*scale, drive = Vec3(-0.4, 0.6, 0.1)*scale;
-        Vec3 carried[2] = {Vec3(1, 2, 3), Vec3(-0.5, 0.1, 0.9)};
+        Vec3 frameDrive = Vec3(0.3, -0.2, 0.5)*scale;
+        Vec3 vectors[3] = {Vec3(-0.4, 0.6, 0.1)*scale, Vec3(1, 2, 3), Vec3(-0.5, 0.1, 0.9)};  // the drive, then what it carries
         double q[3][3] = {{0.36, 0.48, -0.8}, {-0.8, 0.6, 0}, {0.48, 0.64, 0.6}};
         double separateQ[3][3];
         std::copy(&q[0][0], &q[0][0]+9, &separateQ[0][0]);
-        Vec3 separateFrameDrive = frameDrive, separateDrive = drive, separateCarried[2] = {carried[0], carried[1]};
+        Vec3 separateFrameDrive = frameDrive, separateVectors[3] = {vectors[0], vectors[1], vectors[2]};
         BodyDynamics::freeRotate(separateQ, type, 0.1, separateFrameDrive, nullptr, 0);
-        BodyDynamics::freeRotate(nullptr, type, 0.1, separateDrive, separateCarried, 2);
-        BodyDynamics::freeRotateFrameAndVectors(q, type, 0.1, frameDrive, drive, carried, 2);
+        BodyDynamics::freeRotate(nullptr, type, 0.1, separateVectors[0], separateVectors+1, 2);
+        BodyDynamics::freeRotateFrameAndVectors(q, type, 0.1, frameDrive, vectors, 3);
         for (int i = 0; i < 3; i++)
-            for (int k = 0; k < 3; k++)
+            for (int k = 0; k < 3; k++) {
                 EXPECT_EQ(separateQ[i][k], q[i][k]) << "scale " << scale;
-        for (int k = 0; k < 3; k++) {
+                EXPECT_EQ(separateVectors[i][k], vectors[i][k]) << "scale " << scale << ", vector " << i;
+            }
+        for (int k = 0; k < 3; k++)
             EXPECT_EQ(separateFrameDrive[k], frameDrive[k]);
-            EXPECT_EQ(separateDrive[k], drive[k]);
-            EXPECT_EQ(separateCarried[0][k], carried[0][k]);
-            EXPECT_EQ(separateCarried[1][k], carried[1][k]);
-        }
         // Both turned (at 0.05 by about 0.005 rad, in the small-angle series; at 5 by about 0.5).
         EXPECT_GT(std::abs(q[0][0]-0.36)+std::abs(q[1][1]-0.6), 1e-4*scale);
-        EXPECT_GT(std::abs(carried[0][0]-1), 1e-4*scale);
+        EXPECT_GT(std::abs(vectors[1][0]-1), 1e-4*scale);
     }
 }

@@ -160,26 +160,20 @@ inline void freeRotate(double q[3][3], const BodyType& type, double dt, OpenMM::
 
 /**
  * Two free rotations of a body with three moments over dt, with the results of
- * freeRotate(q, type, dt, frameDrive, NULL, 0) and freeRotate(nullptr, type, dt, drive, carried,
- * numCarried) bit for bit, their sub-rotations interleaved. Each sub-rotation waits for the one
- * before (its angle comes from the drive that one turned), so one chain alone leaves the processor
- * waiting; two independent chains side by side fill those waits.
+ * freeRotate(q, type, dt, frameDrive, NULL, 0) and of freeRotate(nullptr, type, dt, vectors[0],
+ * vectors+1, numVectors-1) bit for bit (vectors[0] is the second rotation's drive), their
+ * sub-rotations interleaved. Each sub-rotation waits for the one before (its angle comes from the
+ * drive that one turned), so one chain alone leaves the processor waiting; two independent chains
+ * side by side fill those waits.
  */
-inline void freeRotateFrameAndVectors(double q[3][3], const BodyType& type, double dt, OpenMM::Vec3& frameDrive, OpenMM::Vec3& drive,
-                                      OpenMM::Vec3* carried, int numCarried) {
-    OpenMM::Vec3 vectors[3];
-    vectors[0] = drive;
-    for (int i = 0; i < numCarried; i++)
-        vectors[i+1] = carried[i];
+inline void freeRotateFrameAndVectors(double q[3][3], const BodyType& type, double dt, OpenMM::Vec3& frameDrive, OpenMM::Vec3* vectors,
+                                      int numVectors) {
     double rate[5];
     dlmRates(type, dt, rate);
     for (int s = 0; s < 5; s++) {
         rotateAboutAxis(q, DlmAxes[s], rate[s]*frameDrive[DlmAxes[s]], &frameDrive, 1);
-        rotateAboutAxis(nullptr, DlmAxes[s], rate[s]*vectors[0][DlmAxes[s]], vectors, numCarried+1);
+        rotateAboutAxis(nullptr, DlmAxes[s], rate[s]*vectors[0][DlmAxes[s]], vectors, numVectors);
     }
-    drive = vectors[0];
-    for (int i = 0; i < numCarried; i++)
-        carried[i] = vectors[i+1];
 }
 
 /** Add dt*force to the momentum and dt*torque (body frame) to the angular momentum. */
@@ -328,10 +322,10 @@ void exactFlowOf(BodyState& s, const BodyType& type, const TypeStepCoefficients&
         freeRotate(nullptr, type, h, jDrive, &j, 1);
     }
     else {
-        OpenMM::Vec3 turned[2] = {j, vb};
-        freeRotateFrameAndVectors(s.rotation, type, h, drive, jDrive, turned, 2);
-        j = turned[0];
-        vb = turned[1];
+        OpenMM::Vec3 turned[3] = {jDrive, j, vb};
+        freeRotateFrameAndVectors(s.rotation, type, h, drive, turned, 3);
+        j = turned[1];
+        vb = turned[2];
     }
     rotateByVector(s.rotation, rest, NULL, 0);
     s.velocity = toLab(s.rotation, vb);
