@@ -501,9 +501,7 @@ TEST_P(StickyDipoleForceParity, AgreesWithReference) {
     double largest = 0;
     for (const Vec3& f : expectedForces)
         largest = std::max(largest, std::sqrt(f.dot(f)));
-    double worst = 0;
-    for (int i = 0; i < (int) forces.size(); i++)
-        worst = std::max(worst, std::sqrt((forces[i]-expectedForces[i]).dot(forces[i]-expectedForces[i])));
+    double worst = maxDistance(forces, expectedForces);
     bool isDouble = (GetParam().precision == "double");
     std::cout << GetParam().name() << ": energy " << energy << " kJ/mol, relative difference " << (energy-expected)/std::abs(expected)
               << "; largest force difference " << worst << " of " << largest << " kJ/mol/nm" << std::endl;

@@ -19,7 +19,6 @@
 #include "CpuTests.h"
 #include "LennardJonesCluster.h"
 #include <gtest/gtest.h>
-#include <cstdlib>
 #include <fstream>
 #include <iomanip>
 
@@ -106,8 +105,7 @@ std::map<std::string, Recorded> readRecord(std::string& clone) {
 } // namespace
 
 TEST(HostClones, BaselineFollowsTheNativeClone) {
-    const char* mode = std::getenv("RIGIDLANGEVIN_HOST_CLONES");
-    if (mode == nullptr || std::string(mode) != "compare") {
+    if (!emulatingBaselineBuilds()) {
         record();
         return;
     }
