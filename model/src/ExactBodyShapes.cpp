@@ -47,7 +47,7 @@ VirtualSite* renumbered(const VirtualSite& site, const std::map<int, int>& index
 
 } // namespace
 
-ExactBodyShapes::ExactBodyShapes(const System& system, const vector<vector<int> >& bodyParticles) {
+ExactBodyShapes::ExactBodyShapes(const System& system, const BodyParticleLists& bodyParticles) {
     vector<int> particleBody(system.getNumParticles(), -1);
     for (int b = 0; b < (int) bodyParticles.size(); b++)
         for (int p : bodyParticles[b])

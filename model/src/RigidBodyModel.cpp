@@ -16,9 +16,13 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <istream>
 #include <ostream>
 #include <sstream>
+#if defined(__x86_64__) || defined(_M_X64)
+#include <emmintrin.h>
+#endif
 
 using namespace RigidLangevinPlugin;
 using namespace RigidLangevinPlugin::ResistanceMath;
@@ -35,7 +39,7 @@ string str(double x) {
     return s.str();
 }
 
-string bodyName(int body, int numUserBodies, const vector<int>& particles) {
+string bodyName(int body, int numUserBodies, BodyParticles particles) {
     if (body < numUserBodies)
         return "rigid body "+std::to_string(body);
     return "free particle "+std::to_string(particles[0]);
@@ -62,6 +66,24 @@ double shapeDiameter(const vector<Vec3>& coords) {
         for (int j = i+1; j < (int) coords.size(); j++)
             squared = std::max(squared, (coords[i]-coords[j]).dot(coords[i]-coords[j]));
     return std::sqrt(squared);
+}
+
+/**
+ * Write v to p with non-temporal stores where the processor has them (x86-64: movnti, one per
+ * double, so a Vec3 needs no alignment beyond its own): consecutive particles fill whole cache
+ * lines in the processor's write-combining buffers, which go to memory without being read first.
+ */
+inline void storeStreaming(Vec3& p, const Vec3& v) {
+#if defined(__x86_64__) || defined(_M_X64)
+    for (int k = 0; k < 3; k++) {
+        double x = v[k];
+        long long bits;
+        std::memcpy(&bits, &x, sizeof(bits));
+        _mm_stream_si64(reinterpret_cast<long long*>(&p[k]), bits);
+    }
+#else
+    p = v;
+#endif
 }
 
 /** Relative size below which a principal moment counts as zero (a linear or point body). */
@@ -102,7 +124,7 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidBodyDescription&
         }
         if (!(mass > 0))
             throw OpenMMException("RigidLangevinIntegrator: rigid body "+std::to_string(b)+" has no particle with mass; a body needs mass to move (massless sites must ride on a body that has mass)");
-        bodyParticles.push_back(particles);
+        bodyParticles.add(particles);
     }
 
     // A virtual site in a body rides on it: OpenMM defines it from its parents and hands its force
@@ -133,7 +155,7 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidBodyDescription&
     for (int p = 0; p < numParticles; p++)
         if (particleBody[p] == -1 && particleMass[p] != 0) {
             particleBody[p] = bodyParticles.size();
-            bodyParticles.push_back({p});
+            bodyParticles.add({p});
         }
 
     // Forces that move particles or set velocities behind the integrator's back would be undone by
@@ -211,7 +233,7 @@ RigidBodyModel::~RigidBodyModel() {
 vector<Vec3> RigidBodyModel::unwrappedOffsets(int body, const vector<Vec3>& positions, const Vec3* box, Vec3& centre) const {
     // Every particle is taken at its periodic image nearest the body's first particle, so that a
     // body split across the box by wrapping comes back whole.
-    const vector<int>& particles = bodyParticles[body];
+    BodyParticles particles = bodyParticles[body];
     Vec3 first = positions[particles[0]];
     vector<Vec3> rel(particles.size());
     double halfWidth = 0;
@@ -282,7 +304,7 @@ bool RigidBodyModel::matchType(int type, int body, const vector<Vec3>& offsets, 
 
 Matrix6 RigidBodyModel::bodyFrameResistance(int body, const vector<Vec3>& offsets, const Vec3& centre, const double rotation[3][3]) const {
     Eigen::Matrix3d q = toMatrix3(rotation);
-    const vector<int>& particles = bodyParticles[body];
+    BodyParticles particles = bodyParticles[body];
     if (body < numUserBodies && !explicitTensor[body].empty()) {
         // The tensor belongs to the body's shape at the reference positions it came with: about
         // their centre of mass, then turned from their frame into the body frame.
@@ -326,7 +348,7 @@ Matrix6 RigidBodyModel::bodyFrameResistance(int body, const vector<Vec3>& offset
 }
 
 int RigidBodyModel::createType(int body, const vector<Vec3>& offsets, const Vec3& centre, double rotation[3][3]) {
-    const vector<int>& particles = bodyParticles[body];
+    BodyParticles particles = bodyParticles[body];
     string name = bodyName(body, numUserBodies, particles);
     BodyType t;
     t.mass = 0;
@@ -418,7 +440,7 @@ int RigidBodyModel::createType(int body, const vector<Vec3>& offsets, const Vec3
 int RigidBodyModel::findOrCreateType(int body, const vector<Vec3>& offsets, const Vec3& centre, double rotation[3][3]) {
     // Bodies with the same masses, radii and friction model, whose shapes agree up to a rotation,
     // share a type (and take its exact shape).
-    const vector<int>& particles = bodyParticles[body];
+    BodyParticles particles = bodyParticles[body];
     vector<double> signature;
     signature.push_back(particles.size());
     for (int p : particles) {
@@ -471,7 +493,7 @@ vector<BodyState> RigidBodyModel::fitStates(const vector<Vec3>& positions, const
     double halfWidth = (box == NULL ? 0.0 : 0.5*std::min(box[0][0], std::min(box[1][1], box[2][2])));
     vector<BodyState> states(getNumBodies());
     for (int b = 0; b < getNumBodies(); b++) {
-        const vector<int>& particles = bodyParticles[b];
+        BodyParticles particles = bodyParticles[b];
         BodyState& s = states[b];
         vector<Vec3> offsets = unwrappedOffsets(b, shapes, box, s.position);
         if (firstBuild)
@@ -513,13 +535,14 @@ void RigidBodyModel::placeParticles(const vector<BodyState>& states, vector<Vec3
         placeBodyParticles(b, states[b], positions, velocities);
 }
 
-void RigidBodyModel::placeBodyParticles(int body, const BodyState& s, vector<Vec3>& positions, vector<Vec3>& velocities) const {
+void RigidBodyModel::placeBodyParticles(int body, const BodyState& s, vector<Vec3>& positions, vector<Vec3>& velocities, ParticleStores stores) const {
     const BodyType& t = types[bodyType[body]];
-    const vector<int>& particles = bodyParticles[body];
+    BodyParticles particles = bodyParticles[body];
     Vec3 omega;  // body frame
     for (int k = 0; k < 3; k++)
         omega[k] = (t.rotates(k) ? s.angularMomentum[k]/t.inertia[k] : 0.0);
-    for (int i = 0; i < (int) particles.size(); i++) {
+    const bool streaming = (stores == ParticleStores::Streaming);
+    for (int i = 0; i < particles.size(); i++) {
         const Vec3& c = t.coords[i];
         // Lab-frame offset Q^T b and velocity Q^T (omega x b).
         Vec3 w = omega.cross(c);
@@ -528,9 +551,34 @@ void RigidBodyModel::placeBodyParticles(int body, const BodyState& s, vector<Vec
             offset[k] = s.rotation[0][k]*c[0]+s.rotation[1][k]*c[1]+s.rotation[2][k]*c[2];
             vel[k] = s.rotation[0][k]*w[0]+s.rotation[1][k]*w[1]+s.rotation[2][k]*w[2];
         }
-        positions[particles[i]] = s.position+offset;
-        velocities[particles[i]] = s.velocity+vel;
+        if (streaming) {
+            storeStreaming(positions[particles[i]], s.position+offset);
+            storeStreaming(velocities[particles[i]], s.velocity+vel);
+        }
+        else {
+            positions[particles[i]] = s.position+offset;
+            velocities[particles[i]] = s.velocity+vel;
+        }
     }
+}
+
+RigidBodyModel::ParticleStores RigidBodyModel::chooseParticleStores(long long cacheBytes) const {
+    // Streaming stores fill whole lines only where consecutive bodies write consecutive particles;
+    // count the places where the next particle written is not the next in memory.
+    long long numParticles = 0, jumps = 0;
+    int previous = -2;
+    for (int b = 0; b < getNumBodies(); b++)
+        for (int p : bodyParticles[b]) {
+            numParticles++;
+            jumps += (p != previous+1);
+            previous = p;
+        }
+    if (jumps > numParticles/16)
+        return ParticleStores::Cached;
+    // Per body its state (position, velocity, angular momentum, rotation) and the start of its
+    // particle list; per particle its position, velocity, force and index.
+    long long touched = (long long) getNumBodies()*(sizeof(BodyState)+sizeof(int))+numParticles*(3*sizeof(Vec3)+sizeof(int));
+    return (touched > cacheBytes ? ParticleStores::Streaming : ParticleStores::Cached);
 }
 
 int RigidBodyModel::getNumRotationalDegreesOfFreedom() const {

@@ -1,6 +1,7 @@
 #ifndef RIGID_LANGEVIN_EXACT_BODY_SHAPES_H_
 #define RIGID_LANGEVIN_EXACT_BODY_SHAPES_H_
 
+#include "internal/BodyParticleLists.h"
 #include "openmm/System.h"
 #include "openmm/Vec3.h"
 #include <memory>
@@ -24,7 +25,7 @@ public:
      * @param system        the System
      * @param bodyParticles the particles of each rigid body defined by the user
      */
-    ExactBodyShapes(const OpenMM::System& system, const std::vector<std::vector<int> >& bodyParticles);
+    ExactBodyShapes(const OpenMM::System& system, const BodyParticleLists& bodyParticles);
     ~ExactBodyShapes();
     /** Whether any body has a constraint or a virtual site, so that apply() changes anything. */
     bool isNeeded() const {

@@ -1,6 +1,7 @@
 #ifndef RIGID_LANGEVIN_RIGID_BODY_MODEL_H_
 #define RIGID_LANGEVIN_RIGID_BODY_MODEL_H_
 
+#include "internal/BodyParticleLists.h"
 #include "internal/RigidBodyDescription.h"
 #include "internal/windowsExportRigidLangevin.h"
 #include "openmm/System.h"
@@ -109,12 +110,12 @@ public:
     int getNumUserBodies() const {
         return numUserBodies;
     }
-    const std::vector<int>& getBodyParticles(int body) const {
+    BodyParticles getBodyParticles(int body) const {
         return bodyParticles[body];
     }
     /** Whether types have been built from positions yet. */
     bool isBuilt() const {
-        return !types.empty() || bodyParticles.empty();
+        return !types.empty() || getNumBodies() == 0;
     }
     int getNumTypes() const {
         return types.size();
@@ -151,8 +152,28 @@ public:
                                      const OpenMM::Vec3* box);
     /** Write the positions and velocities of every body's particles from body states. */
     void placeParticles(const std::vector<BodyState>& states, std::vector<OpenMM::Vec3>& positions, std::vector<OpenMM::Vec3>& velocities) const;
+    /**
+     * How placeBodyParticles() writes. An ordinary store reads the cache line it writes first
+     * (write-allocate), so a step over arrays larger than the cache moves each particle's position
+     * and velocity twice; a non-temporal (streaming) store fills whole lines without reading them and
+     * leaves them out of the cache, which only pays once the arrays do not fit in it.
+     */
+    enum class ParticleStores {
+        Cached,    ///< ordinary stores
+        Streaming  ///< non-temporal stores on x86-64 (ordinary elsewhere); fence before other threads read them
+    };
     /** Write the positions and velocities of one body's particles from its state. */
-    void placeBodyParticles(int body, const BodyState& state, std::vector<OpenMM::Vec3>& positions, std::vector<OpenMM::Vec3>& velocities) const;
+    void placeBodyParticles(int body, const BodyState& state, std::vector<OpenMM::Vec3>& positions, std::vector<OpenMM::Vec3>& velocities,
+                            ParticleStores stores = ParticleStores::Cached) const;
+    /**
+     * The stores a host step should place particles with: Streaming when what it touches (body
+     * states, particle positions, velocities, forces and indices) exceeds cacheBytes, the size of
+     * the last-level cache, so that the lines it writes are gone from the cache before the next
+     * force evaluation reads them, and the bodies' particles lie in memory in body order (at most
+     * one particle in 16 not right after the one written before it), so that streaming stores fill
+     * whole lines; Cached otherwise.
+     */
+    ParticleStores chooseParticleStores(long long cacheBytes) const;
     /** Total degrees of freedom, translational ones (3 per body) and rotational ones. */
     int getNumDegreesOfFreedom() const;
     int getNumTranslationalDegreesOfFreedom() const {
@@ -181,7 +202,7 @@ private:
     Matrix6 bodyFrameResistance(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, const double rotation[3][3]) const;
     std::vector<OpenMM::Vec3> unwrappedOffsets(int body, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, OpenMM::Vec3& centre) const;
     int numUserBodies;
-    std::vector<std::vector<int> > bodyParticles;
+    BodyParticleLists bodyParticles;
     std::vector<int> particleBody;
     std::vector<double> particleMass, particleRadius;
     std::vector<int> particleIsVirtualSite;

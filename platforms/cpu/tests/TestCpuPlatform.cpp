@@ -10,6 +10,8 @@
 #include "openmm/CustomExternalForce.h"
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
+#include <cstdlib>
+#include <map>
 
 using namespace OpenMM;
 using namespace RigidLangevinPlugin;
@@ -21,7 +23,7 @@ namespace {
  * 300 asymmetric bodies and 100 free particles in a harmonic well (a per-particle force, which the
  * CPU platform computes the same way whatever its threads), with friction and noise.
  */
-std::vector<Vec3> run(const std::string& threads, int seed, RigidLangevinIntegrator::Scheme scheme) {
+State run(const std::string& threads, int seed, RigidLangevinIntegrator::Scheme scheme, const std::string& platform = "CPU") {
     BodyShape shape = asymmetricBody();
     System system;
     CustomExternalForce* well = new CustomExternalForce("5*(x^2+y^2+z^2)");
@@ -48,11 +50,14 @@ std::vector<Vec3> run(const std::string& threads, int seed, RigidLangevinIntegra
         well->addParticle(i);
         integrator.setParticleRadius(i, 0.1);
     }
-    Context context(system, integrator, Platform::getPlatformByName("CPU"), {{"Threads", threads}});
+    std::map<std::string, std::string> properties;
+    if (platform == "CPU")
+        properties["Threads"] = threads;
+    Context context(system, integrator, Platform::getPlatformByName(platform), properties);
     context.setPositions(positions);
     context.setVelocitiesToTemperature(300, 5);
     integrator.step(200);
-    return context.getState(State::Positions | State::Velocities).getPositions();
+    return context.getState(State::Positions | State::Velocities);
 }
 
 bool identical(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
@@ -67,10 +72,26 @@ bool identical(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
 TEST(CpuPlatform, DeterministicForASeedAndAnyNumberOfThreads) {
     for (RigidLangevinIntegrator::Scheme scheme : {RigidLangevinIntegrator::ExactFlow, RigidLangevinIntegrator::BAOAB}) {
         SCOPED_TRACE("scheme "+std::to_string(scheme));
-        std::vector<Vec3> first = run("2", 11, scheme);
-        EXPECT_TRUE(identical(first, run("2", 11, scheme))) << "same seed, same threads";
-        EXPECT_TRUE(identical(first, run("1", 11, scheme))) << "same seed, one thread";
-        EXPECT_TRUE(identical(first, run("3", 11, scheme))) << "same seed, three threads";
-        EXPECT_FALSE(identical(first, run("2", 12, scheme))) << "another seed";
+        std::vector<Vec3> first = run("2", 11, scheme).getPositions();
+        EXPECT_TRUE(identical(first, run("2", 11, scheme).getPositions())) << "same seed, same threads";
+        EXPECT_TRUE(identical(first, run("1", 11, scheme).getPositions())) << "same seed, one thread";
+        EXPECT_TRUE(identical(first, run("3", 11, scheme).getPositions())) << "same seed, three threads";
+        EXPECT_FALSE(identical(first, run("2", 12, scheme).getPositions())) << "another seed";
     }
+}
+
+TEST(CpuPlatform, StreamingParticleStoresPlaceTheSameParticles) {
+    // The host step (Reference and CPU) writes particle positions and velocities with streaming
+    // stores where a System's arrays exceed the last-level cache (TestParticleStores); a System
+    // this small is stepped with ordinary ones unless the environment forces streaming.
+    for (std::string platform : {"CPU", "Reference"})
+        for (RigidLangevinIntegrator::Scheme scheme : {RigidLangevinIntegrator::ExactFlow, RigidLangevinIntegrator::BAOAB}) {
+            SCOPED_TRACE(platform+", scheme "+std::to_string(scheme));
+            State cached = run("2", 11, scheme, platform);
+            setenv("RIGIDLANGEVIN_HOST_PARTICLE_STORES", "streaming", 1);
+            State streaming = run("2", 11, scheme, platform);
+            unsetenv("RIGIDLANGEVIN_HOST_PARTICLE_STORES");
+            EXPECT_TRUE(identical(cached.getPositions(), streaming.getPositions()));
+            EXPECT_TRUE(identical(cached.getVelocities(), streaming.getVelocities()));
+        }
 }

@@ -2,11 +2,13 @@
 #define HOST_RIGID_LANGEVIN_STEP_KERNEL_H_
 
 #include "HostBodyStates.h"
+#include "HostParticleStores.h"
 #include "ReferencePlatform.h"
 #include "ReferenceVirtualSites.h"
 #include "internal/BodyDynamics.h"
 #include "internal/RigidLangevinStepKernelBase.h"
 #include "openmm/internal/ContextImpl.h"
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -68,6 +70,7 @@ protected:
     }
     void initializeBodies(OpenMM::ContextImpl& context, const RigidBodyModel& model) {
         bodies.resize(model.getNumBodies());
+        particleStores = hostParticleStores(model);
     }
     void uploadBodyStates(OpenMM::ContextImpl& context, const std::vector<BodyState>& states) {
         forEachChunk([&] (int chunk, int begin, int end) {
@@ -177,17 +180,21 @@ private:
                 bodies.storePoint(b, s);
             else
                 bodies.store(b, s);
-            model->placeBodyParticles(b, s, *data.positions, *data.velocities);
+            model->placeBodyParticles(b, s, *data.positions, *data.velocities, particleStores);
         }
+        // Non-temporal stores are weakly ordered: the thread pool's hand-back (release and acquire)
+        // does not order them before the force evaluation's reads on another thread; a full fence does.
+        if (particleStores == RigidBodyModel::ParticleStores::Streaming)
+            std::atomic_thread_fence(std::memory_order_seq_cst);
     }
     /** Total force (lab frame) and torque (body frame) on a body, from the platform's forces. */
     void computeBodyForce(int body, const BodyState& s, OpenMM::Vec3& force, OpenMM::Vec3& torque) const {
         const BodyType& type = model->getType(model->getBodyType(body));
-        const std::vector<int>& particles = model->getBodyParticles(body);
+        BodyParticles particles = model->getBodyParticles(body);
         const std::vector<OpenMM::Vec3>& f = *data.forces;
         force = OpenMM::Vec3();
         torque = OpenMM::Vec3();
-        for (int i = 0; i < (int) particles.size(); i++) {
+        for (int i = 0; i < particles.size(); i++) {
             if (type.isVirtualSite[i])
                 continue;  // OpenMM has already added its force to its parents
             const OpenMM::Vec3& fi = f[particles[i]];
@@ -212,6 +219,7 @@ private:
     }
     HostBodyStates bodies;
     std::vector<int> chunkStart;
+    RigidBodyModel::ParticleStores particleStores = RigidBodyModel::ParticleStores::Cached;
 };
 
 } // namespace RigidLangevinPlugin
