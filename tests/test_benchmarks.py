@@ -232,9 +232,12 @@ def test_traffic_model_bounds_and_matches_the_gpu_profiles():
             assert layout >= sum(traffic.common_minimum(n, precision))
             assert traffic.common_layout_minimum(n, precision, periodic=True)-layout == n*traffic.INT4
     for n in traffic.PARTICLES:
-        assert traffic.cpu_current(n) > traffic.cpu_minimum(n)[0]
+        assert traffic.cpu_minimum(n)[0] < traffic.cpu_current(n) <= 1.5*traffic.cpu_minimum(n)[0]
         # A body that does not rotate moves neither a rotation nor an angular momentum (2 x 96 bytes).
-        assert traffic.cpu_before(n)-traffic.cpu_current(n) == (192 if n == 1 else 0)
+        assert traffic.cpu_before(n)-traffic.cpu_84c33cd(n) == (192 if n == 1 else 0)
+        # Streaming stores take the write-allocate read of particle positions and velocities off, and one
+        # array of particle indices a vector's header per body (24 bytes) for the start of its list (4).
+        assert traffic.cpu_84c33cd(n)-traffic.cpu_current(n) == 2*n*3*8+24-traffic.INT
 
     def bytes_of(name, gpu='gpu_h100'):
         return {row['kernel']: float(row['bytes_per_body_step']) for row in traffic.read_csv(gpu+'/'+name)}

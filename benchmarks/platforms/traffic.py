@@ -7,8 +7,10 @@ The counts are a model of the kernels as written (rigidBodyStep.cc, rigidBodyAto
 HostRigidLangevinStepKernel.h): every per-body or per-particle array element a kernel touches
 counts once per kernel per step, whole (a mixed4 counts 4 values even where w is unused); per-type
 data (coefficients, body-frame coordinates shared by a type) stay in cache and count nothing. On
-the CPU a store to a line not in cache reads it first (write-allocate), so particle positions and
-velocities count twice there. The minimum keeps only what a step cannot avoid: the body state in
+the CPU an ordinary store to a line not in cache reads it first (write-allocate), so particle
+positions and velocities counted twice there until the kernel wrote them with streaming stores
+(which it does where a System's arrays exceed the last-level cache; one that fits moves them to
+memory not at all). The minimum keeps only what a step cannot avoid: the body state in
 and out (position, velocity, and for bodies that rotate the angular momentum and the orientation as
 a quaternion), the particles' forces in (OpenMM's 64-bit fixed-point buffer on GPUs), each
 particle's slot in OpenMM's reordered arrays, and its position out (posq, and posqCorrection in
@@ -138,8 +140,24 @@ def common_layout_minimum(n, precision, periodic=False):
 
 
 def cpu_current(n):
-    """Bytes per body-step of the CPU (and Reference) kernel as written: one pass per body in double;
-    a body that does not rotate moves only its position and velocity (HostBodyStates::loadPoint)."""
+    """Bytes per body-step of the CPU (and Reference) kernel as written, for a System whose arrays
+    exceed the last-level cache (RigidBodyModel::chooseParticleStores; 1e6 three-particle bodies on
+    this machine): one pass per body in double; a body that does not rotate moves only its position
+    and velocity (HostBodyStates::loadPoint); every body's particle indices in one array
+    (BodyParticleLists); particle positions and velocities written with streaming stores, which do
+    not read the lines they fill."""
+    d = 8
+    state = 2*(3*d+3*d+(3*d+9*d if rotations(n) else 0))   # position, velocity (+ angular momentum, rotation matrix) in and out
+    return (state
+            + INT+INT+n*INT                           # body type, start of its particle list, particle indices
+            + n*3*d                                   # forces
+            + 2*n*3*d)                                # positions and velocities out, written once
+
+
+def cpu_84c33cd(n):
+    """The CPU kernel from aef7a69 to 84c33cd (the kernels integrator_cost.csv timed): a vector of
+    particle indices per body (its header and indices read) and ordinary stores, which read each
+    line of particle positions and velocities before writing it (write-allocate)."""
     return cpu_before(n)-(2*(3*8+9*8) if rotations(n) == 0 else 0)
 
 
@@ -213,12 +231,14 @@ PROFILES = [('H100, before (61978fa)', 'gpu_h100/gpu_bandwidth_before.csv', 'mix
             ('H200, 84c33cd (today), double', 'gpu_h200/gpu_bandwidth_double.csv', 'double', common_current)]
 
 # Where each machine's integrator_cost.py times are, and the model of the kernels they timed.
-TIMED = [('this machine (CPU and PoCL; kernels of 84c33cd)', 'integrator_cost.csv', [('CPU', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')], common_current),
-         ('H100 (kernels of 3ed7dd0)', 'gpu_h100/integrator_cost_3ed7dd0.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_fused),
-         ('H100 (kernels of 2715354)', 'gpu_h100/integrator_cost.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_current),
-         ('H200 (kernels of b9f060f)', 'gpu_h200/integrator_cost_b9f060f.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_h200),
+# (machine, table, (platform, precision) runs, model of the common kernels, model of the CPU kernel)
+TIMED = [('this machine (CPU and PoCL; kernels of 84c33cd)', 'integrator_cost.csv', [('CPU', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')],
+          common_current, cpu_84c33cd),
+         ('H100 (kernels of 3ed7dd0)', 'gpu_h100/integrator_cost_3ed7dd0.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_fused, None),
+         ('H100 (kernels of 2715354)', 'gpu_h100/integrator_cost.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_current, None),
+         ('H200 (kernels of b9f060f)', 'gpu_h200/integrator_cost_b9f060f.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_h200, None),
          ('H200 (kernels of 84c33cd, today; OpenCL is NVIDIA\'s)', 'gpu_h200/integrator_cost.csv',
-          [('CUDA', 'single'), ('CUDA', 'mixed'), ('CUDA', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')], common_current)]
+          [('CUDA', 'single'), ('CUDA', 'mixed'), ('CUDA', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')], common_current, None)]
 
 
 def main(argv=None):
@@ -265,7 +285,9 @@ def main(argv=None):
              'pass per body that steps it, places its particles and makes its random numbers; body-frame coordinates per '
              'type, with the inverse masses it writes to velm.w; the rotation\'s first two rows in one mixed4 and the w of '
              'velocity and angular momentum; no angular momentum for a body that does not rotate; no periodic box, as in '
-             'integrator_cost.py; CPU: no rotation or angular momentum for a body that does not rotate). "periodic box": '
+             'integrator_cost.py; CPU: no rotation or angular momentum for a body that does not rotate, every body\'s particle '
+             'indices in one array, particle positions and velocities written with streaming stores, as for arrays larger '
+             'than the last-level cache). "periodic box": '
              'the same in a periodic box, where a step also reads the body\'s image and each particle\'s cell offset '
              '(16 bytes each).', '',
              '| platform | precision | particles | minimum | + particle velocities | OpenMM\'s layout | before | today | '
@@ -306,10 +328,10 @@ def main(argv=None):
               'are far below it, so there the step is bound by arithmetic, not by memory. Each time is one timed block '
               '(on the H200, four repeats of the 1e6 rows scattered by 1-3%: gpu_h200/integrator_cost_1e6_repeats.csv).', '',
               '| machine | platform | precision | us per body-step | model bytes | GB/s |', '|---|---|---|---|---|---|']
-    for machine, path, runs, kernels in TIMED:
+    for machine, path, runs, kernels, cpu_kernel in TIMED:
         for platform, precision in runs:
             t = measured_time(path, platform, precision)
-            model = cpu_current(3) if platform == 'CPU' else sum(kernels(3, precision).values())
+            model = cpu_kernel(3) if platform == 'CPU' else sum(kernels(3, precision).values())
             if t is not None:
                 lines.append(f'| {machine} | {platform} | {precision} | {t:.4g} | {model} | {model/t*1e-3:.3g} |')
     text = '\n'.join(lines)+'\n'

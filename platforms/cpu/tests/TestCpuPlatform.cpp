@@ -3,7 +3,9 @@
  * with its own random stream, and threads take whole chunks. A trajectory is then fixed by the
  * random number seed (and the forces): the same with the same seed and number of threads, and even
  * with another number of threads, since the chunks do not depend on it. Enough bodies that the
- * kernel runs threaded (CpuIntegrateRigidLangevinStepKernel::MinBodiesForThreads).
+ * kernel runs threaded (CpuIntegrateRigidLangevinStepKernel::MinBodiesForThreads). The host step
+ * (Reference and CPU) gives the same trajectory with streaming stores of the particles as with
+ * ordinary ones.
  */
 #include "CpuTests.h"
 #include "RigidBodyTestUtilities.h"
