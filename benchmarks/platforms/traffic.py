@@ -155,7 +155,7 @@ def cpu_current(n):
 
 
 def cpu_84c33cd(n):
-    """The CPU kernel from aef7a69 to 84c33cd (the kernels integrator_cost.csv timed): a vector of
+    """The CPU kernel from aef7a69 to 84c33cd: a vector of
     particle indices per body (its header and indices read) and ordinary stores, which read each
     line of particle positions and velocities before writing it (write-allocate)."""
     return cpu_before(n)-(2*(3*8+9*8) if rotations(n) == 0 else 0)
@@ -232,8 +232,8 @@ PROFILES = [('H100, before (61978fa)', 'gpu_h100/gpu_bandwidth_before.csv', 'mix
 
 # Where each machine's integrator_cost.py times are, and the model of the kernels they timed.
 # (machine, table, (platform, precision) runs, model of the common kernels, model of the CPU kernel)
-TIMED = [('this machine (CPU and PoCL; kernels of 84c33cd)', 'integrator_cost.csv', [('CPU', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')],
-          common_current, cpu_84c33cd),
+TIMED = [('this machine (CPU and PoCL; host kernel of e6f7dfe, common kernels of 84c33cd)', 'integrator_cost.csv',
+          [('CPU', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')], common_current, cpu_current),
          ('H100 (kernels of 3ed7dd0)', 'gpu_h100/integrator_cost_3ed7dd0.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_fused, None),
          ('H100 (kernels of 2715354)', 'gpu_h100/integrator_cost.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_current, None),
          ('H200 (kernels of b9f060f)', 'gpu_h200/integrator_cost_b9f060f.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_h200, None),
