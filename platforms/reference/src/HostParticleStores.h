@@ -5,7 +5,9 @@
 #include "openmm/OpenMMException.h"
 #include <cstdlib>
 #include <string>
+#if defined(__unix__) || defined(__APPLE__)
 #include <unistd.h>
+#endif
 
 namespace RigidLangevinPlugin {
 
