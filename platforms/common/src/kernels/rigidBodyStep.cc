@@ -305,7 +305,9 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int friction
         int periodic, mixed4 boxVecX, mixed4 boxVecY, mixed4 boxVecZ, GLOBAL int4* RESTRICT bodyImage,
         GLOBAL real4* RESTRICT posq, GLOBAL real4* RESTRICT posqCorrection, GLOBAL mixed4* RESTRICT velm) {
     const int scheme = STEP_SCHEME;
-    const int haveRotation = (frictionClass != CLASS_SCALAR || scheme == SCHEME_ORIGINAL);
+    // The Original scheme turns every body. The constant goes left of ||: clang warns, on every
+    // build of the program, about || with a constant right operand.
+    const int haveRotation = (scheme == SCHEME_ORIGINAL || frictionClass != CLASS_SCALAR);
     int type = bodyType[body];
     GLOBAL const mixed* tp = &typeParams[type*TYPE_STRIDE];
     int4 info = typeInfo[type];
@@ -320,7 +322,7 @@ DEVICE void stepBody(int body, int frictionClass, int numRotations, int friction
     loadVector(bodyPosition, body, b.position);
     mixed4 velocity4 = bodyVelocity[body];
     mixed4 angular4 = make_mixed4(0, 0, 0, 0);
-    if (numRotations > 0 || haveRotation)
+    if (haveRotation || numRotations > 0)
         angular4 = bodyAngularMomentum[body];
     b.velocity[0] = velocity4.x;
     b.velocity[1] = velocity4.y;
