@@ -223,6 +223,20 @@ struct PlatformConfigName {
 /** A Context on a platform in its precision. */
 OpenMM::Context* createContext(OpenMM::System& system, OpenMM::Integrator& integrator, const PlatformConfig& config);
 
+/**
+ * RIGIDLANGEVIN_HOST_PARTICLE_STORES (how the host step writes particles: auto, cached or
+ * streaming) set while in scope, for the Contexts made then, and unset after, also when a test
+ * throws (ctest sets none).
+ */
+struct ParticleStoresSetting {
+    explicit ParticleStoresSetting(const char* value) {
+        setenv("RIGIDLANGEVIN_HOST_PARTICLE_STORES", value, 1);
+    }
+    ~ParticleStoresSetting() {
+        unsetenv("RIGIDLANGEVIN_HOST_PARTICLE_STORES");
+    }
+};
+
 } // namespace RigidBodyTest
 
 #endif /*RIGID_BODY_TEST_UTILITIES_H_*/

@@ -8,14 +8,15 @@
  */
 #include "ReferenceTests.h"  // the test runner's platform (the functions need none)
 #include "HostParticleStores.h"
+#include "RigidBodyTestUtilities.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/System.h"
 #include <gtest/gtest.h>
-#include <cstdlib>
 #include <string>
 
 using namespace OpenMM;
 using namespace RigidLangevinPlugin;
+using RigidBodyTest::ParticleStoresSetting;
 
 namespace {
 
@@ -41,16 +42,6 @@ RigidBodyModel model(bool inOrder) {
     return RigidBodyModel(system, description);
 }
 
-/** RIGIDLANGEVIN_HOST_PARTICLE_STORES set while in scope, then unset (ctest sets none). */
-struct StoresSetting {
-    explicit StoresSetting(const char* value) {
-        setenv("RIGIDLANGEVIN_HOST_PARTICLE_STORES", value, 1);
-    }
-    ~StoresSetting() {
-        unsetenv("RIGIDLANGEVIN_HOST_PARTICLE_STORES");
-    }
-};
-
 } // namespace
 
 TEST(ParticleStores, StreamingExactlyWhereTheStepsArraysExceedTheCache) {
@@ -72,18 +63,18 @@ TEST(ParticleStores, TheEnvironmentForcesEitherWay) {
     RigidBodyModel ordered = model(true);
     EXPECT_EQ(Stores::Cached, hostParticleStores(ordered)) << "unset: 4880 bytes fit in any last-level cache";
     {
-        StoresSetting setting("streaming");
+        ParticleStoresSetting setting("streaming");
         EXPECT_EQ(Stores::Streaming, hostParticleStores(ordered));
     }
     {
-        StoresSetting setting("auto");
+        ParticleStoresSetting setting("auto");
         EXPECT_EQ(Stores::Cached, hostParticleStores(ordered));
     }
     {
-        StoresSetting setting("cached");
+        ParticleStoresSetting setting("cached");
         EXPECT_EQ(Stores::Cached, hostParticleStores(ordered));
     }
-    StoresSetting setting("Streaming");
+    ParticleStoresSetting setting("Streaming");
     try {
         hostParticleStores(ordered);
         FAIL() << "a value other than auto, cached or streaming was accepted";

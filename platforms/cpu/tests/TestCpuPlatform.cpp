@@ -12,7 +12,6 @@
 #include "openmm/CustomExternalForce.h"
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
-#include <cstdlib>
 #include <map>
 
 using namespace OpenMM;
@@ -90,9 +89,10 @@ TEST(CpuPlatform, StreamingParticleStoresPlaceTheSameParticles) {
         for (RigidLangevinIntegrator::Scheme scheme : {RigidLangevinIntegrator::ExactFlow, RigidLangevinIntegrator::BAOAB}) {
             SCOPED_TRACE(platform+", scheme "+std::to_string(scheme));
             State cached = run("2", 11, scheme, platform);
-            setenv("RIGIDLANGEVIN_HOST_PARTICLE_STORES", "streaming", 1);
-            State streaming = run("2", 11, scheme, platform);
-            unsetenv("RIGIDLANGEVIN_HOST_PARTICLE_STORES");
+            State streaming = [&] {
+                ParticleStoresSetting setting("streaming");
+                return run("2", 11, scheme, platform);
+            }();
             EXPECT_TRUE(identical(cached.getPositions(), streaming.getPositions()));
             EXPECT_TRUE(identical(cached.getVelocities(), streaming.getVelocities()));
         }
