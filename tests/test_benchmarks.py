@@ -269,3 +269,35 @@ def test_traffic_model_bounds_and_matches_the_gpu_profiles():
     for precision, suffix in (('mixed', ''), ('double', '_double')):
         today = bytes_of(f'gpu_bandwidth{suffix}.csv', 'gpu_h200')['stepCoupledBodies3']
         assert abs(today/traffic.common_current(3, precision)['step']-1) < 0.08
+
+
+def test_paired_times_take_each_blocks_closing_state_off_and_alternate_the_order():
+    """benchmark_utils.paired_times, which integrator_cost.py and water_box.py report their ratios to
+    LangevinMiddleIntegrator from: stand-ins whose steps take 2 and 4 ms and whose State takes 30 ms
+    must come out at 2 and 4 ms per step, ratio 2 (left in, the State would make them 5 and 7 ms,
+    ratio 1.4), with the order of the two reversed every other pair; mean_and_error's standard error
+    is the sample deviation over sqrt(n)."""
+    import time
+    sys.path.insert(0, str(ROOT/'benchmarks'/'platforms'))
+    import benchmark_utils
+    calls = []
+
+    class Stand:
+        def __init__(self, key, seconds_per_step):
+            self.key, self.seconds_per_step = key, seconds_per_step
+
+        def step(self, steps):
+            calls.append(self.key)
+            time.sleep(steps*self.seconds_per_step)
+
+        def getState(self, getPositions):
+            time.sleep(0.030)
+
+    fast, slow = Stand('fast', 0.002), Stand('slow', 0.004)
+    times = benchmark_utils.paired_times({'fast': (fast, fast), 'slow': (slow, slow)}, steps=10, pairs=4)
+    assert calls == ['fast', 'slow', 'slow', 'fast', 'fast', 'slow', 'slow', 'fast']
+    assert all(0.0018 < t < 0.0026 for t in times['fast']), times
+    assert all(0.0038 < t < 0.0046 for t in times['slow']), times
+    ratio, error = benchmark_utils.mean_and_error(np.array(times['slow'])/np.array(times['fast']))
+    assert abs(ratio-2) < 0.2 and error < 0.1
+    assert np.allclose(benchmark_utils.mean_and_error([1.0, 2.0, 3.0, 6.0]), (3.0, np.std([1, 2, 3, 6], ddof=1)/2))

@@ -1,8 +1,10 @@
 """Helpers shared by the platform benchmarks: platforms, timing, tables and plots."""
 import csv
+import math
 import os
 import time
 
+import numpy as np
 import openmm as mm
 
 KERNEL = 'IntegrateRigidLangevinStep'
@@ -65,15 +67,61 @@ def time_per_step(integrator, context, steps, repeats=3, min_seconds=0.2, subtra
         steps *= 4
 
 
+def calibrated_steps(integrator, context, steps, min_seconds=0.3):
+    """Steps per timing block: `steps`, grown fourfold until one block (less its closing State)
+    takes at least min_seconds, so that timer noise and the State's cost are small beside it."""
+    sync = sync_seconds(context)
+    while steps < 1000000:
+        start = time.perf_counter()
+        integrator.step(steps)
+        context.getState(getPositions=True)
+        if time.perf_counter()-start-sync >= min_seconds:
+            break
+        steps *= 4
+    return steps
+
+
+def sync_seconds(context, repeats=3):
+    """The cost of the State that closes each timing block, taken with nothing queued (best of
+    repeats): at 1e6 bodies on a GPU it is a copy of every position, worth many steps."""
+    context.getState(getPositions=True)
+    best = float('inf')
+    for _ in range(repeats):
+        start = time.perf_counter()
+        context.getState(getPositions=True)
+        best = min(best, time.perf_counter()-start)
+    return best
+
+
+def paired_times(contexts, steps, pairs=5):
+    """Time per step (s) of each of several {key: (integrator, context)}: {key: [one per pair]}.
+    In each pair every context runs one block of `steps` steps closed by a State, in turn, so that
+    all see the same machine load; the order is reversed every other pair so that none always
+    follows another; each block's State is timed alone beforehand and subtracted. Ratios taken
+    pair by pair cancel the load the pair saw; mean_and_error gives their standard error."""
+    sync = {key: sync_seconds(context) for key, (integrator, context) in contexts.items()}
+    times = {key: [] for key in contexts}
+    keys = list(contexts)
+    for pair in range(pairs):
+        for key in (keys if pair % 2 == 0 else keys[::-1]):
+            integrator, context = contexts[key]
+            start = time.perf_counter()
+            integrator.step(steps)
+            context.getState(getPositions=True)
+            times[key].append(max(time.perf_counter()-start-sync[key], 0.0)/steps)
+    return times
+
+
+def mean_and_error(values):
+    """Mean and its standard error (sample standard deviation / sqrt(n))."""
+    values = np.asarray(values, dtype=float)
+    return values.mean(), values.std(ddof=1)/math.sqrt(len(values))
+
+
 def best_times_alternating(contexts, steps, rounds=3):
     """Time per step (s) of each of several {key: (integrator, context)}, timed in turn over several
-    rounds, so that all see the same machine load; the best of each."""
-    timings = {}
-    for _ in range(rounds):
-        for key, (integrator, context) in contexts.items():
-            t = time_per_step(integrator, context, steps, repeats=1, subtract_sync=False)
-            timings[key] = min(timings.get(key, float('inf')), t)
-    return timings
+    rounds (paired_times), so that all see the same machine load; the best of each."""
+    return {key: min(values) for key, values in paired_times(contexts, steps, rounds).items()}
 
 
 def save_plot(fig, name):

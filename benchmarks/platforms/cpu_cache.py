@@ -18,13 +18,12 @@ Writes results/cpu_cache.csv (one row per pair) and results/cpu_cache.png, and p
 ratios (large/small, streaming/ordinary stores) with their standard errors over the pairs.
 """
 import argparse
-import math
 import os
 import time
 
 import numpy as np
 
-from benchmark_utils import running_context, save_plot, write_table
+from benchmark_utils import mean_and_error, running_context, save_plot, write_table
 from integrator_cost import build
 from traffic import cpu_current
 
@@ -78,9 +77,6 @@ def main():
     small = np.array([r['small_us_per_body_step'] for r in rows])
     large = np.array([r['large_us_per_body_step'] for r in rows])
     large_cached = np.array([r['large_cached_us_per_body_step'] for r in rows])
-
-    def mean_and_error(values):
-        return values.mean(), values.std(ddof=1)/math.sqrt(len(values))
     ratios, streaming = large/small, large/large_cached
     mean, error = mean_and_error(ratios)
     cache = last_level_cache_mib()

@@ -186,11 +186,12 @@ def read_csv(name):
 
 def measured_time(path, platform, precision, bodies=1000000):
     """us per body-step of the integrator alone at 1e6 water-shaped bodies, from a table of
-    integrator_cost.py (results/path)."""
+    integrator_cost.py (results/path), and its standard error where the table has one (tables
+    written before integrator_cost.py timed pairs of blocks hold one block each): (us, error or None)."""
     for row in read_csv(path):
         if row['platform'] == platform and row['precision'] == precision and row['bodies'] == str(bodies):
-            return float(row['us_per_body_step'])
-    return None
+            return float(row['us_per_body_step']), float(row['us_per_body_step_se']) if row.get('us_per_body_step_se') else None
+    return None, None
 
 
 def host_bandwidth(megabytes=400, repeats=5):
@@ -232,7 +233,7 @@ PROFILES = [('H100, before (61978fa)', 'gpu_h100/gpu_bandwidth_before.csv', 'mix
 
 # Where each machine's integrator_cost.py times are, and the model of the kernels they timed.
 # (machine, table, (platform, precision) runs, model of the common kernels, model of the CPU kernel)
-TIMED = [('this machine (CPU and PoCL; host kernel of e6f7dfe, common kernels of 84c33cd)', 'integrator_cost.csv',
+TIMED = [('this machine (CPU and PoCL; kernels of 6d356da)', 'integrator_cost.csv',
           [('CPU', 'double'), ('OpenCL', 'single'), ('OpenCL', 'double')], common_current, cpu_current),
          ('H100 (kernels of 3ed7dd0)', 'gpu_h100/integrator_cost_3ed7dd0.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_fused, None),
          ('H100 (kernels of 2715354)', 'gpu_h100/integrator_cost.csv', [('CUDA', 'single'), ('CUDA', 'mixed')], common_current, None),
@@ -325,15 +326,21 @@ def main(argv=None):
     peak = args.host_bandwidth or host_bandwidth()
     lines += ['', '## Achieved bandwidth (model bytes / measured time per body-step, 1e6 bodies, integrator_cost.py)', '',
               f'This machine copies memory at {peak:.1f} GB/s (one thread, read and write counted): the CPU and PoCL rows '
-              'are far below it, so there the step is bound by arithmetic, not by memory. Each time is one timed block '
-              '(on the H200, four repeats of the 1e6 rows scattered by 1-3%: gpu_h200/integrator_cost_1e6_repeats.csv).', '',
+              'are far below it, so there the step is bound by arithmetic, not by memory. This machine\'s times are the mean of '
+              'five alternating pairs of blocks, +- its standard error (GB/s +- the same relative error); the GPU machines\' '
+              'are one timed block each (on the H200, four repeats of the 1e6 rows scattered by 1-3%: '
+              'gpu_h200/integrator_cost_1e6_repeats.csv).', '',
               '| machine | platform | precision | us per body-step | model bytes | GB/s |', '|---|---|---|---|---|---|']
     for machine, path, runs, kernels, cpu_kernel in TIMED:
         for platform, precision in runs:
-            t = measured_time(path, platform, precision)
+            t, error = measured_time(path, platform, precision)
             model = cpu_kernel(3) if platform == 'CPU' else sum(kernels(3, precision).values())
             if t is not None:
-                lines.append(f'| {machine} | {platform} | {precision} | {t:.4g} | {model} | {model/t*1e-3:.3g} |')
+                time_text, bandwidth_text = f'{t:.4g}', f'{model/t*1e-3:.3g}'
+                if error is not None:
+                    time_text += f' +- {error:.2g}'
+                    bandwidth_text += f' +- {model/t*1e-3*error/t:.2g}'
+                lines.append(f'| {machine} | {platform} | {precision} | {time_text} | {model} | {bandwidth_text} |')
     text = '\n'.join(lines)+'\n'
     with open(os.path.join(RESULTS, 'traffic.md'), 'w') as f:
         f.write(text)

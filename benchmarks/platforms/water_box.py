@@ -1,9 +1,10 @@
 """End to end: a box of rigid TIP3P water (about 4000 molecules, PME) with RigidLangevinIntegrator
 (each water one rigid body; the water constraints of the System are inside bodies and ignored)
-against LangevinMiddleIntegrator with SETTLE, on the same platform and the same System. Reports
-the time per step of each and their ratio.
+against LangevinMiddleIntegrator with SETTLE, on the same platform and the same System, timed in
+alternating pairs of blocks. Reports the mean time per step of each and their ratio pair by pair,
+with its standard error.
 
-    python benchmarks/platforms/water_box.py [--box 5.0] [--platforms CPU OpenCL CUDA]
+    python benchmarks/platforms/water_box.py [--box 5.0] [--platforms CPU OpenCL CUDA] [--pairs 6]
 """
 import argparse
 
@@ -13,7 +14,7 @@ import openmm.app as app
 import openmm.unit as unit
 
 import rigidlangevin as rl
-from benchmark_utils import best_times_alternating, platform_status, save_plot, write_table, running_context
+from benchmark_utils import mean_and_error, paired_times, platform_status, running_context, save_plot, write_table
 
 
 def build_water_box(box):
@@ -49,7 +50,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--box', type=float, default=5.0, help='box edge in nm (5 nm: about 4100 waters)')
     parser.add_argument('--platforms', nargs='+', default=['CPU', 'OpenCL', 'CUDA'])
-    parser.add_argument('--steps', type=int, default=0, help='steps per timing block (default: by platform)')
+    parser.add_argument('--steps', type=int, default=0, help='steps per timing block (default: by platform; a multiple of four, as integrator_cost.steps_for says why)')
+    parser.add_argument('--pairs', type=int, default=6, help='alternating pairs of timed blocks (RigidLangevin, LangevinMiddle)')
     parser.add_argument('--precisions', nargs='+', default=['single', 'mixed'], help='GPU precisions (double too on a GPU machine)')
     parser.add_argument('--name', default='water_box', help='results/<name>.csv and .png (e.g. water_box_gpu for a GPU machine)')
     args = parser.parse_args()
@@ -73,17 +75,18 @@ def main():
                 else:
                     integrator = mm.LangevinMiddleIntegrator(300*unit.kelvin, 1/unit.picosecond, 2*unit.femtoseconds)
                 contexts[kind] = (integrator, running_context(system, integrator, positions, name, properties, warmup_steps=10))
-            timings = best_times_alternating(contexts, steps)
-            rigid, middle = timings['rigid'], timings['middle']
+            times = paired_times(contexts, steps, args.pairs)
+            rigid, middle = np.mean(times['rigid']), np.mean(times['middle'])
+            ratio, ratio_error = mean_and_error(np.array(times['rigid'])/np.array(times['middle']))
             row = {'platform': name, 'precision': precision or 'double/single (CPU platform)', 'waters': len(waters),
-                   'rigid_langevin_ms_per_step': f'{1e3*rigid:.4g}', 'langevin_middle_settle_ms_per_step': f'{1e3*middle:.4g}',
-                   'ratio': f'{rigid/middle:.3f}', 'rigid_ns_per_day': f'{0.002*86400/rigid/1e3:.3g}',
-                   'middle_ns_per_day': f'{0.002*86400/middle/1e3:.3g}'}
+                   'pairs': args.pairs, 'steps': steps, 'rigid_langevin_ms_per_step': f'{1e3*rigid:.4g}',
+                   'langevin_middle_settle_ms_per_step': f'{1e3*middle:.4g}', 'ratio': f'{ratio:.3f}', 'ratio_se': f'{ratio_error:.3f}',
+                   'rigid_ns_per_day': f'{0.002*86400/rigid/1e3:.3g}', 'middle_ns_per_day': f'{0.002*86400/middle/1e3:.3g}'}
             rows.append(row)
             print(row, flush=True)
             del contexts
-    columns = ['platform', 'precision', 'waters', 'rigid_langevin_ms_per_step', 'langevin_middle_settle_ms_per_step', 'ratio',
-               'rigid_ns_per_day', 'middle_ns_per_day', 'note']
+    columns = ['platform', 'precision', 'waters', 'pairs', 'steps', 'rigid_langevin_ms_per_step', 'langevin_middle_settle_ms_per_step',
+               'ratio', 'ratio_se', 'rigid_ns_per_day', 'middle_ns_per_day', 'note']
     write_table(args.name, columns, rows)
     plot(rows, args.name)
 
@@ -100,9 +103,11 @@ def plot(rows, name):
     ax.bar(x+0.2, [float(r['langevin_middle_settle_ms_per_step']) for r in measured], 0.4, label='LangevinMiddleIntegrator + SETTLE')
     for i, r in enumerate(measured):
         ax.text(i, max(float(r['rigid_langevin_ms_per_step']), float(r['langevin_middle_settle_ms_per_step']))*1.02,
-                f"ratio {r['ratio']}", ha='center', fontsize=9)
+                f"ratio {r['ratio']}" + (f" +- {r['ratio_se']}" if r.get('ratio_se') else ''), ha='center', fontsize=9)
+    if measured:  # room above the tallest bar for its ratio
+        ax.set_ylim(top=1.12*max(max(float(r['rigid_langevin_ms_per_step']), float(r['langevin_middle_settle_ms_per_step'])) for r in measured))
     ax.set_xticks(x, labels)
-    ax.set_ylabel('time per step (ms)')
+    ax.set_ylabel('time per step (ms, mean over pairs)')
     missing = [r['platform'] for r in rows if not r.get('ratio')]
     title = f"{measured[0]['waters'] if measured else ''} rigid TIP3P waters, PME"
     if missing:
