@@ -95,7 +95,8 @@ def sync_seconds(context, repeats=3):
 
 def paired_times(contexts, steps, pairs=5):
     """Time per step (s) of each of several {key: (integrator, context)}: {key: [one per pair]}.
-    In each pair every context runs one block of `steps` steps closed by a State, in turn, so that
+    In each pair every context runs one block of `steps` steps (or steps[key], for contexts whose
+    steps differ by orders of magnitude in cost) closed by a State, in turn, so that
     all see the same machine load; the order is reversed every other pair so that none always
     follows another; each block's State is timed alone beforehand and subtracted. Ratios taken
     pair by pair cancel the load the pair saw; mean_and_error gives their standard error."""
@@ -105,10 +106,11 @@ def paired_times(contexts, steps, pairs=5):
     for pair in range(pairs):
         for key in (keys if pair % 2 == 0 else keys[::-1]):
             integrator, context = contexts[key]
+            block = steps[key] if isinstance(steps, dict) else steps
             start = time.perf_counter()
-            integrator.step(steps)
+            integrator.step(block)
             context.getState(getPositions=True)
-            times[key].append(max(time.perf_counter()-start-sync[key], 0.0)/steps)
+            times[key].append(max(time.perf_counter()-start-sync[key], 0.0)/block)
     return times
 
 
@@ -116,12 +118,6 @@ def mean_and_error(values):
     """Mean and its standard error (sample standard deviation / sqrt(n))."""
     values = np.asarray(values, dtype=float)
     return values.mean(), values.std(ddof=1)/math.sqrt(len(values))
-
-
-def best_times_alternating(contexts, steps, rounds=3):
-    """Time per step (s) of each of several {key: (integrator, context)}, timed in turn over several
-    rounds (paired_times), so that all see the same machine load; the best of each."""
-    return {key: min(values) for key, values in paired_times(contexts, steps, rounds).items()}
 
 
 def save_plot(fig, name):

@@ -1,6 +1,7 @@
 """What removing the interactions inside rigid bodies saves (rigidlangevin.removeInternalInteractions).
 
-Two scenes, each timed with and without the removal on the same platform, alternately in one run:
+Two scenes, each timed with and without the removal on the same platform, in alternating pairs of
+blocks in one run (the speed-up taken pair by pair, with its standard error):
 
 - villin: villin HP35 (OpenMM's test.pdb, protein only, 582 atoms), amber14-all with implicit/obc2,
   no cutoff, as one rigid body at 20 C in water. Every force is inside the body, so all go.
@@ -9,7 +10,7 @@ Two scenes, each timed with and without the removal on the same platform, altern
 
     python benchmarks/platforms/internal_interactions.py [--platforms CPU OpenCL] [--name internal_interactions]
 
-Writes results/<name>.csv and .png: ms per step with and without, and their ratio.
+Writes results/<name>.csv and .png: mean ms per step with and without, and their ratio +- its standard error.
 """
 import argparse
 import os
@@ -20,7 +21,7 @@ import openmm.app as app
 import openmm.unit as unit
 
 import rigidlangevin as rl
-from benchmark_utils import platform_status, running_context, save_plot, time_per_step, write_table
+from benchmark_utils import calibrated_steps, mean_and_error, paired_times, platform_status, running_context, save_plot, write_table
 
 VILLIN = os.path.join(os.path.dirname(app.__file__), 'data', 'test.pdb')
 
@@ -94,7 +95,8 @@ def contexts(system, positions, bodies, platform, properties):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--platforms', nargs='+', default=['CPU', 'OpenCL'])
-    parser.add_argument('--steps', type=int, default=20, help='steps per timing block')
+    parser.add_argument('--steps', type=int, default=20, help='steps per timing block to start calibrating from')
+    parser.add_argument('--pairs', type=int, default=5, help='alternating pairs of timed blocks (with and without the removal)')
     parser.add_argument('--name', default='internal_interactions', help='results/<name>.csv and .png')
     args = parser.parse_args()
     rows = []
@@ -107,19 +109,19 @@ def main():
                 continue
             properties = {'Precision': 'mixed'} if platform in ('OpenCL', 'CUDA') else {}
             made, report = contexts(system, positions, bodies, platform, properties)
-            # In turn over three rounds, so that both see the same machine load; blocks grow until they
-            # last 0.2 s (a step without forces takes microseconds).
-            times = {}
-            for _ in range(3):
-                for key, (integrator, context) in made.items():
-                    times[key] = min(times.get(key, float('inf')), time_per_step(integrator, context, args.steps, repeats=1))
+            # In turn over several pairs, so that both see the same machine load; each one's blocks
+            # calibrated to last 0.3 s (a step without forces takes microseconds).
+            steps = {key: calibrated_steps(integrator, context, args.steps) for key, (integrator, context) in made.items()}
+            times = paired_times(made, steps, args.pairs)
+            speedup, speedup_error = mean_and_error(np.array(times[False])/np.array(times[True]))
             rows.append({'scene': scene, 'platform': platform, 'particles': system.getNumParticles(), 'bodies': len(bodies),
-                         'ms_per_step_all': f'{1e3*times[False]:.4f}', 'ms_per_step_removed': f'{1e3*times[True]:.4f}',
-                         'speedup': f'{times[False]/times[True]:.1f}',
+                         'pairs': args.pairs, 'ms_per_step_all': f'{1e3*np.mean(times[False]):.4f}',
+                         'ms_per_step_removed': f'{1e3*np.mean(times[True]):.4f}',
+                         'speedup': f'{speedup:.3g}', 'speedup_se': f'{speedup_error:.2g}',
                          'removed_forces': len(report.removedForces), 'excluded_pairs': sum(report.excludedPairs.values()),
                          'energy_offset_kJ_per_mol': f'{report.energyOffset.value_in_unit(unit.kilojoule_per_mole):.2f}'})
-    write_table(args.name, ['scene', 'platform', 'particles', 'bodies', 'ms_per_step_all', 'ms_per_step_removed', 'speedup',
-                            'removed_forces', 'excluded_pairs', 'energy_offset_kJ_per_mol'], rows)
+    write_table(args.name, ['scene', 'platform', 'particles', 'bodies', 'pairs', 'ms_per_step_all', 'ms_per_step_removed', 'speedup',
+                            'speedup_se', 'removed_forces', 'excluded_pairs', 'energy_offset_kJ_per_mol'], rows)
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
