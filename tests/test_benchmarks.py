@@ -301,3 +301,6 @@ def test_paired_times_take_each_blocks_closing_state_off_and_alternate_the_order
     ratio, error = benchmark_utils.mean_and_error(np.array(times['slow'])/np.array(times['fast']))
     assert abs(ratio-2) < 0.2 and error < 0.1
     assert np.allclose(benchmark_utils.mean_and_error([1.0, 2.0, 3.0, 6.0]), (3.0, np.std([1, 2, 3, 6], ddof=1)/2))
+    # Steps per context (internal_interactions.py's, whose two costs differ a hundredfold): still per step.
+    times = benchmark_utils.paired_times({'fast': (fast, fast), 'slow': (slow, slow)}, steps={'fast': 20, 'slow': 5}, pairs=2)
+    assert all(0.0018 < t < 0.0026 for t in times['fast']) and all(0.0038 < t < 0.0056 for t in times['slow']), times
