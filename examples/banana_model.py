@@ -25,11 +25,25 @@ l + (2^(1/6)-1) d (tests/test_banana.py checks both). Other orientations differ 
 
 Pentane is TraPPE-UA (Martin & Siepmann, J. Phys. Chem. B 102, 2569 (1998)): CH3 and CH2 sites,
 bonds fixed at 1.54 A, harmonic bends, the OPLS torsion, Lennard-Jones between sites more than
-three bonds apart and between molecules (bonds harmonic: see BOND_K). Its sites are spheres in the same GayBerneForce (widths
-sigma, all strengths 1: exactly Lennard-Jones among themselves), so a site meets an ellipsoid
-through OpenMM's Gay-Berne form with Lorentz-Berthelot mixing: sigma_ij = (sigma_i + sigma_j)/2,
-eps_ij = sqrt(eps_i eps_j), the ellipsoid's shape and strengths setting the contact distance and
-well along each of its axes.
+three bonds apart and between molecules (bonds harmonic: see BOND_K), cut at TraPPE's own 1.4 nm
+with its analytic tail corrections to the energy and pressure.
+
+The scene's forces (SceneForces) give every pair its own form and no pair twice:
+- site-site pairs: Lennard-Jones in a NonbondedForce, cut at 1.4 nm, with its dispersion
+  correction (OpenMM's analytic tail for g(r) = 1 beyond the cutoff, summed over the sites' classes
+  with Lorentz-Berthelot mixing: TraPPE's own treatment, exact for the energy and the pressure the
+  barostat sees; tests/test_banana.py checks it against a direct sum);
+- pairs with an ellipsoid: OpenMM's GayBerneForce, cut at 1.4 nm. Ellipsoid-ellipsoid pairs come
+  from its particles; each ellipsoid-site pair is an exception carrying exactly the parameters
+  GayBerneForce's mixing would give (sigma_ij = (d + sigma_site)/2, eps_ij = sqrt(eps eps_site)),
+  so that the sites, whose own epsilon there is zero, cost GayBerneForce nothing among
+  themselves. A site meets an ellipsoid through OpenMM's Gay-Berne form, the ellipsoid's shape
+  and end-to-end strength setting contact and well along each of its axes. Those pairs have no
+  tail correction: the dispersion of 6 ellipsoids beyond 1.4 nm, an estimated 0.02% of the
+  scene's energy.
+That split changes no energy from one GayBerneForce holding every particle (all_in_gayberne=True,
+kept for the test that shows it and for the speed comparison): on the CPU platform
+GayBerneForce's scalar pair loop costs six times NonbondedForce's vectorised one at 1.4 nm.
 """
 import math
 
@@ -79,6 +93,9 @@ TRAPPE_ANGLE = math.radians(114.0)
 TRAPPE_ANGLE_K = 62500.0  # K/rad^2, U = k/2 (theta - theta0)^2
 TRAPPE_TORSION = (355.03, -68.19, 791.32)  # K: c1 (1 + cos phi) + c2 (1 - cos 2 phi) + c3 (1 + cos 3 phi)
 PENTANE_MASS = 2*15.035+3*14.027
+# TraPPE-UA's Lennard-Jones cutoff (nm), with analytic tail corrections; the scene's Gay-Berne pairs
+# are cut there too.
+CUTOFF = 1.4
 
 
 def ellipsoids():
@@ -104,9 +121,91 @@ def banana_positions():
     return np.array(points)
 
 
-def add_banana(system, gayberne, positions, rotation=np.eye(3), translation=np.zeros(3)):
-    """Add one banana (nine particles) to system and gayberne, placed at rotation @ r + translation;
-    append its positions (nm) to the list positions and return its particle indices."""
+class SceneForces:
+    """The scene's forces, filled particle by particle (see the module's text): Lennard-Jones among
+    pentane sites in `lennard_jones` (a NonbondedForce), every pair with an ellipsoid in `gayberne`,
+    the pentanes' bonds, bends and torsions in `bonds`, `angles` and `torsions`. cutoff (nm) None
+    means no cutoff and no periodic box; all_in_gayberne puts the sites' Lennard-Jones in the
+    GayBerneForce too (as spheres: exactly Lennard-Jones, with no tail correction), as the model
+    was first built. Call add_to(system) once every particle is in."""
+
+    def __init__(self, cutoff=CUTOFF, dispersion_correction=True, all_in_gayberne=False):
+        self.gayberne = gayberne_force(cutoff)
+        self.lennard_jones = None if all_in_gayberne else mm.NonbondedForce()
+        if self.lennard_jones is not None:
+            if cutoff is None:
+                self.lennard_jones.setNonbondedMethod(mm.NonbondedForce.NoCutoff)
+            else:
+                self.lennard_jones.setNonbondedMethod(mm.NonbondedForce.CutoffPeriodic)
+                self.lennard_jones.setCutoffDistance(cutoff)
+                self.lennard_jones.setUseSwitchingFunction(False)
+                self.lennard_jones.setUseDispersionCorrection(dispersion_correction)
+        self.bonds, self.angles, self.torsions = mm.HarmonicBondForce(), mm.HarmonicAngleForce(), mm.RBTorsionForce()
+        self.sites, self.ellipsoids = [], []  # (particle, sigma, epsilon)
+        self.excluded = set()
+
+    def add_site(self, particle, sigma, epsilon):
+        """A Lennard-Jones site (nm, kJ/mol)."""
+        assert particle == self.gayberne.getNumParticles()
+        self.sites.append((particle, sigma, epsilon))
+        gb_epsilon = epsilon if self.lennard_jones is None else 0.0
+        self.gayberne.addParticle(sigma, gb_epsilon, -1, -1, sigma, sigma, sigma, 1.0, 1.0, 1.0)
+        if self.lennard_jones is not None:
+            self.lennard_jones.addParticle(0.0, sigma, epsilon)
+
+    def add_ellipsoid(self, particle, axis_particle):
+        """One GBPaper ellipsoid at particle, its long (x) axis pointing at axis_particle."""
+        assert particle == self.gayberne.getNumParticles()
+        epsilon = GB_EPS_SIDE/OPENMM_SIDE_WELL
+        self.ellipsoids.append((particle, GB_BREADTH, epsilon))
+        self.gayberne.addParticle(GB_BREADTH, epsilon, axis_particle, -1, GB_LENGTH, GB_BREADTH, GB_BREADTH, GB_EPS_END/GB_EPS_SIDE, 1.0, 1.0)
+        if self.lennard_jones is not None:
+            self.lennard_jones.addParticle(0.0, 1.0, 0.0)
+
+    def add_inert(self, particle):
+        """A particle that no nonbonded force acts on (a banana's mass particles)."""
+        assert particle == self.gayberne.getNumParticles()
+        self.gayberne.addParticle(GB_BREADTH, 0.0, -1, -1, GB_BREADTH, GB_BREADTH, GB_BREADTH, 1.0, 1.0, 1.0)
+        if self.lennard_jones is not None:
+            self.lennard_jones.addParticle(0.0, 1.0, 0.0)
+
+    def exclude(self, i, j):
+        """No nonbonded interaction between particles i and j. Both forces get the same exclusions:
+        the CPU platform requires it of forces that share its neighbour list. An exception's
+        sigma must not be 0: OpenMM's Gay-Berne force takes 0/0 for the force of an excluded pair
+        of overlapping ellipsoids then (NaN forces)."""
+        self.excluded.add((min(i, j), max(i, j)))
+        self.gayberne.addException(i, j, 1.0, 0.0)
+        if self.lennard_jones is not None:
+            self.lennard_jones.addException(i, j, 0.0, 1.0, 0.0)
+
+    def add_to(self, system):
+        """Give every ellipsoid-site pair its Gay-Berne exception and add the forces that act on
+        anything to system; returns {name: force} of those added."""
+        if self.lennard_jones is not None:
+            for e, e_sigma, e_epsilon in self.ellipsoids:
+                for s, s_sigma, s_epsilon in self.sites:
+                    if (min(e, s), max(e, s)) not in self.excluded:
+                        self.gayberne.addException(e, s, (e_sigma+s_sigma)/2, math.sqrt(e_epsilon*s_epsilon))
+                        self.lennard_jones.addException(e, s, 0.0, 1.0, 0.0)
+        added = {}
+        if self.ellipsoids or (self.lennard_jones is None and self.sites):
+            added['gayberne'] = self.gayberne
+        if self.lennard_jones is not None and self.sites:
+            added['lennard_jones'] = self.lennard_jones
+        for name in ('bonds', 'angles', 'torsions'):
+            force = getattr(self, name)
+            if force.getNumBonds() if name == 'bonds' else force.getNumAngles() if name == 'angles' else force.getNumTorsions():
+                added[name] = force
+        for force in added.values():
+            system.addForce(force)
+        return added
+
+
+def add_banana(system, forces, positions, rotation=np.eye(3), translation=np.zeros(3)):
+    """Add one banana (nine particles) to system and forces (SceneForces), placed at
+    rotation @ r + translation; append its positions (nm) to the list positions and return its
+    particle indices."""
     first = system.getNumParticles()
     for k, p in enumerate(banana_positions()):
         system.addParticle(0.0 if k % 3 == 0 else GB_MASS/2)
@@ -114,30 +213,26 @@ def add_banana(system, gayberne, positions, rotation=np.eye(3), translation=np.z
     for e in range(3):
         center, plus, minus = first+3*e, first+3*e+1, first+3*e+2
         system.setVirtualSite(center, mm.TwoParticleAverageSite(plus, minus, 0.5, 0.5))
-    return _add_to_gayberne(gayberne, first, 9)
+    return _add_banana_to_forces(forces, first, 9)
 
 
-def _add_to_gayberne(gayberne, first, count):
-    """Give the banana's particles first..first+count-1 their Gay-Berne entries (the ellipsoid
-    centres, every third from first, oriented by the next particle; the others inert) and exclude
-    every pair inside the body; return the particle indices."""
-    widths = (GB_LENGTH, GB_BREADTH, GB_BREADTH)
+def _add_banana_to_forces(forces, first, count):
+    """The banana's particles first..first+count-1 in forces: the ellipsoid centres (every third
+    from first, oriented by the next particle), the others inert, every pair inside excluded;
+    returns the particle indices."""
     for k in range(count):
         if k < 9 and k % 3 == 0:
-            gayberne.addParticle(GB_BREADTH, GB_EPS_SIDE/OPENMM_SIDE_WELL, first+k+1, -1, *widths, GB_EPS_END/GB_EPS_SIDE, 1.0, 1.0)
+            forces.add_ellipsoid(first+k, first+k+1)
         else:
-            gayberne.addParticle(GB_BREADTH, 0.0, -1, -1, GB_BREADTH, GB_BREADTH, GB_BREADTH, 1.0, 1.0, 1.0)
+            forces.add_inert(first+k)
     members = list(range(first, first+count))
-    # An exception's sigma must not be 0: OpenMM's Gay-Berne force takes 0/0 for the force of an
-    # excluded pair of overlapping ellipsoids then (NaN forces).
     for i in members:
         for j in members:
             if i < j:
-                gayberne.addException(i, j, 1.0, 0.0)
+                forces.exclude(i, j)
     return members
 
-
-def add_constrained_banana(system, gayberne, positions, rotation=np.eye(3), translation=np.zeros(3), thickness=0.02):
+def add_constrained_banana(system, forces, positions, rotation=np.eye(3), translation=np.zeros(3), thickness=0.02):
     """A banana for OpenMM's own integrators, rigid through constraints: the nine particles of
     add_banana(), all massless virtual sites here, on a tetrahedron of four massive particles (a
     quarter of the mass each) joined by six constraints. The tetrahedron (+-a, 0, h), (0, +-b, -h)
@@ -173,20 +268,19 @@ def add_constrained_banana(system, gayberne, positions, rotation=np.eye(3), tran
     for i in range(4):
         for j in range(i+1, 4):
             system.addConstraint(corners[i], corners[j], float(np.linalg.norm(frame[i]-frame[j])))
-    return _add_to_gayberne(gayberne, first, 13)
+    return _add_banana_to_forces(forces, first, 13)
 
 
 def gayberne_force(cutoff=None):
-    """A GayBerneForce with this scene's settings: periodic with cutoff (nm) and a switch over
-    its last 10%, or no cutoff."""
+    """A GayBerneForce with this scene's settings: periodic, cut at cutoff (nm) without a switch as
+    TraPPE cuts its Lennard-Jones, or no cutoff."""
     force = mm.GayBerneForce()
     if cutoff is None:
         force.setNonbondedMethod(mm.GayBerneForce.NoCutoff)
     else:
         force.setNonbondedMethod(mm.GayBerneForce.CutoffPeriodic)
         force.setCutoffDistance(cutoff)
-        force.setUseSwitchingFunction(True)
-        force.setSwitchingDistance(0.9*cutoff)
+        force.setUseSwitchingFunction(False)
     return force
 
 
@@ -218,10 +312,9 @@ def viscosity_md_units(poise):
     return poise*0.1/1.66053906660e-27*1e-9*1e-12
 
 
-def add_pentane(system, gayberne, bonded, positions, start, direction):
-    """Add one all-trans TraPPE-UA pentane (5 sites) starting at start (nm) along the unit vector
-    direction; bonded = (HarmonicBondForce, HarmonicAngleForce, RBTorsionForce); returns the site indices."""
-    bond_force, angle_force, torsion_force = bonded
+def add_pentane(system, forces, positions, start, direction):
+    """Add one all-trans TraPPE-UA pentane (5 sites) to system and forces (SceneForces) starting at
+    start (nm) along the unit vector direction; returns the site indices."""
     kinds = ['CH3', 'CH2', 'CH2', 'CH2', 'CH3']
     first = system.getNumParticles()
     # Zig-zag in the plane of direction and a perpendicular.
@@ -232,42 +325,42 @@ def add_pentane(system, gayberne, bonded, positions, start, direction):
     for k, kind in enumerate(kinds):
         sigma, eps_k, mass = TRAPPE_SITES[kind]
         system.addParticle(mass)
-        gayberne.addParticle(sigma, eps_k*BOLTZ, -1, -1, sigma, sigma, sigma, 1.0, 1.0, 1.0)
+        forces.add_site(first+k, sigma, eps_k*BOLTZ)
         positions.append(mm.Vec3(*(start+k*rise*direction+(k % 2)*wobble*perp)))
     sites = list(range(first, first+5))
     for k in range(4):
-        bond_force.addBond(sites[k], sites[k+1], TRAPPE_BOND, BOND_K)
+        forces.bonds.addBond(sites[k], sites[k+1], TRAPPE_BOND, BOND_K)
     for k in range(3):
-        angle_force.addAngle(sites[k], sites[k+1], sites[k+2], TRAPPE_ANGLE, TRAPPE_ANGLE_K*BOLTZ)
+        forces.angles.addAngle(sites[k], sites[k+1], sites[k+2], TRAPPE_ANGLE, TRAPPE_ANGLE_K*BOLTZ)
     # c1 (1 + cos phi) + c2 (1 - cos 2 phi) + c3 (1 + cos 3 phi) in Ryckaert-Bellemans form (psi =
     # phi - 180 degrees, OpenMM's convention): C0 = c1 + 2 c2 + c3, C1 = -c1 + 3 c3, C2 = -2 c2, C3 = -4 c3.
     c1, c2, c3 = (c*BOLTZ for c in TRAPPE_TORSION)
     rb = (c1+2*c2+c3, -c1+3*c3, -2*c2, -4*c3, 0.0, 0.0)
     for k in range(2):
-        torsion_force.addTorsion(sites[k], sites[k+1], sites[k+2], sites[k+3], *rb)
+        forces.torsions.addTorsion(sites[k], sites[k+1], sites[k+2], sites[k+3], *rb)
     # Lennard-Jones only between sites more than three bonds apart (the two ends).
     for i in range(5):
         for j in range(i+1, min(i+4, 5)):
-            gayberne.addException(sites[i], sites[j], 1.0, 0.0)
+            forces.exclude(sites[i], sites[j])
     return sites
 
 
-def pentane_box(num_pentanes, box, seed, bananas=0, cutoff=1.4, constrained=False):
+def pentane_box(num_pentanes, box, seed, bananas=0, cutoff=CUTOFF, constrained=False, all_in_gayberne=False):
     """System and positions (nm) of bananas (first, 9 particles each, or 13 if constrained: see
-    add_constrained_banana(); along x at evenly spaced heights) and num_pentanes all-trans pentanes along x on a lattice in a cubic box of side box
-    (nm), lattice slots that would overlap a banana left out. Returns (system, positions,
-    bananas' particle lists, forces by name)."""
+    add_constrained_banana(); along x at evenly spaced heights) and num_pentanes all-trans pentanes
+    along x on a lattice in a cubic box of side box (nm), lattice slots that would overlap a banana
+    left out; forces as SceneForces(cutoff, all_in_gayberne=all_in_gayberne) makes them. Returns
+    (system, positions, bananas' particle lists, {name: force} of the forces added)."""
     rng = np.random.default_rng(seed)
     system = mm.System()
     system.setDefaultPeriodicBoxVectors(mm.Vec3(box, 0, 0), mm.Vec3(0, box, 0), mm.Vec3(0, 0, box))
-    gayberne = gayberne_force(cutoff)
-    bonded = (mm.HarmonicBondForce(), mm.HarmonicAngleForce(), mm.RBTorsionForce())
+    forces = SceneForces(cutoff, all_in_gayberne=all_in_gayberne)
     positions, bodies, banana_points = [], [], []
     for b in range(bananas):
         # Bananas along x, bend toward +y, at heights spread over the box (the first mid-box).
         translation = np.array([box/2, box*(b+0.5)/bananas, box*(b+0.5)/bananas])
         add = add_constrained_banana if constrained else add_banana
-        bodies.append(add(system, gayberne, positions, np.eye(3), translation))
+        bodies.append(add(system, forces, positions, np.eye(3), translation))
         centers, axes = ellipsoids()
         centers = centers-centers.mean(axis=0)+translation
         for c, u in zip(centers, axes):
@@ -290,8 +383,5 @@ def pentane_box(num_pentanes, box, seed, bananas=0, cutoff=1.4, constrained=Fals
     if len(slots) < num_pentanes:
         raise ValueError(f'a box of {box} nm holds only {len(slots)} pentanes beside {bananas} bananas on the starting lattice; use a larger box')
     for index in sorted(rng.choice(len(slots), num_pentanes, replace=False)):
-        add_pentane(system, gayberne, bonded, positions, slots[index], np.array([1.0, 0, 0]))
-    system.addForce(gayberne)
-    for force in bonded:
-        system.addForce(force)
-    return system, positions, bodies, {'gayberne': gayberne, 'bonds': bonded[0], 'angles': bonded[1], 'torsions': bonded[2]}
+        add_pentane(system, forces, positions, slots[index], np.array([1.0, 0, 0]))
+    return system, positions, bodies, forces.add_to(system)

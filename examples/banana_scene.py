@@ -6,25 +6,34 @@ Gay-Berne ellipsoids rigidly joined) among 256 pentanes at 273 K in NVE, and the
 under their Langevin integrator at the experimental viscosity of pentane, 0.289 cP, with the
 resistance tensor of a rough shell of 2266 beads; they compared the velocity autocorrelation of
 the bananas' centres and the orientational autocorrelation of the middle ellipsoid's axis. This
-example does the same with the model of banana_model.py (and 320 pentanes: see PENTANES) and answers what the source could not:
-at which viscosity the implicit model reproduces the explicit diffusion, translational and
-rotational, and how far that is from the solvent model's own viscosity. It writes, to --out:
+study does the same with the model of banana_model.py (320 pentanes: see PENTANES) and answers what
+the source could not: at which viscosity the implicit model reproduces the explicit diffusion,
+translational and rotational, and how far that is from the solvent model's own viscosity.
 
-  tensor.md           the banana's resistance tensor (shell extrapolated to zero bead size, and the
-                      shell at the source's 2266 beads) beside the source's, in its frame and units
-  pentane.md          the pentane model's density (NPT) and shear viscosity (periodic perturbation)
-                      at 273 K, with standard errors, against experiment
-  diffusion.md/.csv   D_t and D_r of the bananas, explicit against implicit (this integrator's
-                      ExactFlow and BAOAB schemes at 0.289 cP, OpenMM's LangevinMiddleIntegrator
-                      per particle), the tensor's prediction, the matching viscosities, ns/day
-  correlations.csv/.png  velocity and orientational autocorrelations, explicit against implicit
+Stages, each a folder of runs under OUT/runs/ (study_folder.py: a run is kept as soon as it ends,
+runs are appended to what is on disk, and a folder made with another model or other settings is
+refused):
+  density            the neat solvent under a barostat (pentane_solvent.npt_run)
+  viscosity_n*_v*    periodic perturbation at harmonic n of the box and flow speed v (nm/ps),
+                     at the mean density of the density runs when this stage began
+  scene_box          the scene (bananas held rigid by constraints) under a barostat: its box edge
+  explicit           two bananas among the pentanes: thermostatted equilibration, then NVE
+  ExactFlow, BAOAB, LangevinMiddle
+                     the two bananas alone at 0.289 cP (this integrator's two schemes with the
+                     tensor; OpenMM's integrator per particle, rigid through constraints)
+Then it writes, to OUT: tensor.md (the tensor beside the source's), pentane.md and
+density_trace.png and viscosity.png (the solvent model against experiment), diffusion.md/.csv (D_t,
+D_r, the matching viscosities, the explicit runs' temperature and energy drift) and
+correlations.csv/.png (velocity and orientational autocorrelations, explicit against implicit).
 
-    python examples/banana_scene.py --quick     # minutes: every stage, short
-    python examples/banana_scene.py --medium    # about 45 minutes: rough numbers (examples/results/banana_scene)
-    python examples/banana_scene.py             # the full study (see the README for its run time)
+    python examples/banana_scene.py --quick                    # every stage, short: minutes (tested)
+    python examples/banana_scene.py                            # the full study, into examples/results/banana_scene:
+                                                               # runs only what is not on disk yet
+    python examples/banana_scene.py --stages explicit --add 4  # 4 more explicit replicas
+    mpirun --allow-run-as-root -np 2 .venv/bin/python examples/banana_scene.py --threads 1   # runs spread over ranks
 
-Every observable comes from independent replicas (rigidlangevin.ensemble: run it under mpirun to
-spread them over ranks); its standard error is their spread over sqrt(replicas).
+Standard errors: of a time series from its statistical inefficiency, of replicas from their
+spread over sqrt(replicas).
 """
 import argparse
 import csv
@@ -32,43 +41,47 @@ import math
 import pathlib
 import sys
 import time
+import zlib
 
 import numpy as np
-import openmm as mm
 import openmm.unit as unit
 
 import rigidlangevin as rl
-from rigidlangevin.ensemble import broadcast, run_ensemble
-from rigidlangevin import statistics
-from rigidlangevin.statistics import block_error
+from rigidlangevin.ensemble import _communicator
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import banana_model as bm  # noqa: E402
+import banana_runs as runs  # noqa: E402
+import pentane_solvent as ps  # noqa: E402
+from study_folder import StudyFolder, StudyMismatch, system_fingerprint  # noqa: E402
 
-TEMPERATURE = bm.SOURCE_TEMPERATURE
-KT = bm.BOLTZ*TEMPERATURE  # kJ/mol
-AMU_PER_NM_PS_IN_CP = 1.66053906660e-27/(1e-9*1e-12)*1e3  # amu/(nm ps) in cP
+TEMPERATURE = ps.TEMPERATURE
 CM2_S = 1e3  # nm^2/ps in 1e-5 cm^2/s
-PENTANE_VISCOSITY_273K = 0.289  # cP, as the source uses (experiment)
-PENTANE_DENSITY_273K = 0.6454  # g/mL near 0 C (CRC Handbook)
-CUTOFF = 1.0  # nm, the Gay-Berne force's cutoff (switched over its last 10%)
 # The source's 256 pentanes make a box of about 3.7 nm, and this banana's particles span 1.9 nm,
 # more than half of it (the integrator refuses a body wider than half the box: its particles'
 # minimum images would not be one body). 320 pentanes make a box of about 4 nm.
-PENTANES = 320
+PENTANES = ps.PENTANES
+CANONICAL_BOX = 4.0  # nm: the box of the Systems whose fingerprints identify the model
+IMPLICIT_SCHEMES = ('ExactFlow', 'BAOAB', 'LangevinMiddle')
+# Flow speeds at harmonics 1, 2, 3 of the box: equal largest shear rates k V, and harmonic 1 at
+# half the speed too, to show the response is linear.
+VISCOSITY_SERIES = ((1, 0.05), (1, 0.025), (2, 0.025), (3, 0.05/3))
 
-# Quick and full settings: picoseconds of each stage, replicas, sampling.
 SETTINGS = {
-    'quick': dict(density_ps=10, viscosity_equilibration_ps=2, viscosity_ps=10, explicit_equilibration_ps=5, explicit_ps=5,
-                  implicit_equilibration_ps=5, implicit_ps=100, replicas=2, max_beads=1000),
-    'medium': dict(density_ps=25, viscosity_equilibration_ps=10, viscosity_ps=25, explicit_equilibration_ps=20, explicit_ps=40,
-                   implicit_equilibration_ps=5, implicit_ps=300, replicas=3, max_beads=2000),
-    'full': dict(density_ps=100, viscosity_equilibration_ps=10, viscosity_ps=200, explicit_equilibration_ps=50, explicit_ps=500,
-                 implicit_equilibration_ps=50, implicit_ps=5000, replicas=8, max_beads=2000),
+    'quick': dict(density_runs=1, density_ps=10, viscosity_runs=1, viscosity_ps=5, build_up_ps=2, scene_box_runs=1, scene_box_ps=5,
+                  replicas=2, melt_ps=1, equilibration_ps=4, production_ps=6, implicit_replicas=2, implicit_equilibration_ps=5,
+                  implicit_ps=30, max_lag_ps=2.0, window_ps=(0.5, 2.0), max_beads=1000),
+    'full': dict(density_runs=2, density_ps=1000, viscosity_runs=1, viscosity_ps=500, build_up_ps=20, scene_box_runs=1, scene_box_ps=400,
+                 replicas=8, melt_ps=5, equilibration_ps=95, production_ps=500, implicit_replicas=8, implicit_equilibration_ps=50,
+                 implicit_ps=5000, max_lag_ps=150.0, window_ps=(10.0, 50.0), max_beads=2000),
 }
-SAMPLE_PS = 0.01  # every 10 fs
-EXPLICIT_STEP = 0.001  # ps: flexible pentane's bonds
-IMPLICIT_STEP = 0.002
+STAGE_SETTINGS = {  # the settings that define each kind of stage (beside its model)
+    'density': ('density_ps',),
+    'viscosity': ('viscosity_ps', 'build_up_ps'),
+    'scene_box': ('scene_box_ps',),
+    'explicit': ('melt_ps', 'equilibration_ps', 'production_ps', 'max_lag_ps', 'max_beads'),
+    'implicit': ('implicit_equilibration_ps', 'implicit_ps', 'max_lag_ps', 'max_beads'),
+}
 
 
 def source_frame(matrix):
@@ -124,334 +137,467 @@ def tensor_comparison(settings, out):
     return xi
 
 
-def pentane_density(settings, platform, seed):
-    """Mean volume per pentane (nm^3) and its standard error: PENTANES pentanes, NPT at 273 K and 1 bar
-    (LangevinMiddleIntegrator at 1/ps, Monte Carlo barostat), the second half of the run."""
-    # Start at the experimental density.
-    box = (PENTANES*bm.PENTANE_MASS/(6.02214076e23*PENTANE_DENSITY_273K)*1e21)**(1/3)
-    system, positions, _, _ = bm.pentane_box(PENTANES, box, seed, cutoff=CUTOFF)
-    system.addForce(mm.MonteCarloBarostat(1.0, TEMPERATURE))
-    integrator = mm.LangevinMiddleIntegrator(TEMPERATURE, 1.0, EXPLICIT_STEP)
-    integrator.setRandomNumberSeed(seed)
-    context = mm.Context(system, integrator, mm.Platform.getPlatformByName(platform))
-    context.setPositions(positions)
-    mm.LocalEnergyMinimizer.minimize(context, 10.0, 1000)
-    context.setVelocitiesToTemperature(TEMPERATURE, seed)
-    volumes = []
-    steps = int(round(settings['density_ps']/EXPLICIT_STEP))
-    for _ in range(steps//100):
-        integrator.step(100)
-        volumes.append(context.getState().getPeriodicBoxVolume().value_in_unit(unit.nanometer**3))
-    volumes = np.array(volumes[len(volumes)//2:])/PENTANES
-    state = context.getState(getPositions=True)
-    return volumes.mean(), block_error(volumes), state
+# --- Stages -----------------------------------------------------------------------------------
 
 
-def cosine_acceleration_integrator(amplitude, wavenumber, friction, step):
-    """Velocity Verlet with the periodic perturbation a_x = A cos(k z) (Hess, J. Chem. Phys. 116, 209
-    (2002)) and a Langevin thermostat on y and z only, so that it removes the heat the flow makes
-    without dragging the flow itself."""
-    integrator = mm.CustomIntegrator(step)
-    integrator.addGlobalVariable('A', amplitude)
-    integrator.addGlobalVariable('k', wavenumber)
-    integrator.addGlobalVariable('kT', KT)
-    integrator.addGlobalVariable('keep', math.exp(-friction*step))
-    integrator.addGlobalVariable('noise', math.sqrt(1-math.exp(-2*friction*step)))
-    integrator.addUpdateContextState()
-    kick = 'v + 0.5*dt*f/m + 0.5*dt*vector(A*cos(k*_z(x)), 0, 0)'
-    integrator.addComputePerDof('v', kick)
-    integrator.addComputePerDof('x', 'x + 0.5*dt*v')
-    integrator.addComputePerDof('v', 'v*vector(1, keep, keep) + sqrt(kT/m)*vector(0, noise, noise)*gaussian')
-    integrator.addComputePerDof('x', 'x + 0.5*dt*v')
-    integrator.addComputePerDof('v', kick)
-    return integrator
+def definition(kind, settings, model, **extra):
+    """What makes a stage's runs comparable: its model's fingerprint, the temperature, the settings
+    of its kind, and extra."""
+    d = {'model': model, 'temperature': TEMPERATURE, 'pentanes': PENTANES}
+    d.update({k: settings[k] for k in STAGE_SETTINGS[kind]})
+    d.update(extra)
+    return d
 
 
-def pentane_viscosity(settings, platform, state, seed):
-    """Shear viscosity (cP) of the pentane model and its standard error by periodic perturbation:
-    eta = A rho / (V k^2), V the amplitude of the steady flow profile v_x(z) = V cos(k z)."""
-    system, _, _, _ = bm.pentane_box(PENTANES, 4.2, seed, cutoff=CUTOFF)
-    box = state.getPeriodicBoxVectors()
-    system.setDefaultPeriodicBoxVectors(*box)
-    length = box[2][2].value_in_unit(unit.nanometer)
-    k = 2*math.pi/length
-    masses = np.array([system.getParticleMass(i).value_in_unit(unit.dalton) for i in range(system.getNumParticles())])
-    rho = masses.sum()/length**3  # amu/nm^3
-    # A flow amplitude of about 0.05 nm/ps for pentane's viscosity: far below thermal speeds (~0.4 nm/ps).
-    amplitude = 0.05*(PENTANE_VISCOSITY_273K/AMU_PER_NM_PS_IN_CP)*k*k/rho
-    integrator = cosine_acceleration_integrator(amplitude, k, 5.0, EXPLICIT_STEP)
-    integrator.setRandomNumberSeed(seed)
-    context = mm.Context(system, integrator, mm.Platform.getPlatformByName(platform))
-    context.setPositions(state.getPositions())
-    context.setVelocitiesToTemperature(TEMPERATURE, seed)
-    # The profile builds up as 1 - exp(-t/tau), tau = rho/(eta k^2): 1.3 ps at the experimental
-    # viscosity in this box, longer for a less viscous model; the full study waits 10 ps.
-    integrator.step(int(round(settings['viscosity_equilibration_ps']/EXPLICIT_STEP)))
-    profile = []
-    for _ in range(int(round(settings['viscosity_ps']/SAMPLE_PS))):
-        integrator.step(int(round(SAMPLE_PS/EXPLICIT_STEP)))
-        s = context.getState(getPositions=True, getVelocities=True)
-        x = s.getPositions(asNumpy=True).value_in_unit(unit.nanometer)
-        v = s.getVelocities(asNumpy=True).value_in_unit(unit.nanometer/unit.picosecond)
-        profile.append(2*np.sum(masses*v[:, 0]*np.cos(k*x[:, 2]))/masses.sum())
-    profile = np.array(profile)
-    velocity, error = profile.mean(), block_error(profile)
-    eta = amplitude*rho/(velocity*k*k)*AMU_PER_NM_PS_IN_CP
-    return eta, eta*error/velocity, length
+def neat_model():
+    return system_fingerprint(ps.pentane_system(CANONICAL_BOX, 1)[0])
 
 
-def banana_observables(context, bodies, masses, steps_per_sample, samples, integrator):
-    """Centre-of-mass positions (unwrapped) and velocities of the bananas and the middle ellipsoid's
-    axis, every steps_per_sample steps: arrays (samples, bananas, 3)."""
-    members = np.array(bodies)
-    m = masses[members][:, :, None]
-    total = m.sum(axis=1)
-    com, vel, axis = [], [], []
-    for _ in range(samples):
-        integrator.step(steps_per_sample)
-        s = context.getState(getPositions=True, getVelocities=True)
-        x = s.getPositions(asNumpy=True).value_in_unit(unit.nanometer)[members]
-        v = s.getVelocities(asNumpy=True).value_in_unit(unit.nanometer/unit.picosecond)[members]
-        com.append((m*x).sum(axis=1)/total)
-        vel.append((m*v).sum(axis=1)/total)
-        u = x[:, 4]-x[:, 3]  # middle ellipsoid: its first mass particle minus its centre
-        axis.append(u/np.linalg.norm(u, axis=1, keepdims=True))
-    return np.array(com), np.array(vel), np.array(axis)
+def scene_model(**kwargs):
+    return system_fingerprint(bm.pentane_box(kwargs.pop('pentanes', PENTANES), CANONICAL_BOX, 1, bananas=2, **kwargs)[0])
 
 
-def correlation(series, lags):
-    """<a(0).a(t)> over time origins and bananas for t = 0..lags-1 samples; series (T, B, 3)."""
-    n = len(series)
-    out = np.zeros(lags)
-    for lag in range(lags):
-        out[lag] = np.mean(np.sum(series[:n-lag]*series[lag:], axis=2))
-    return out
+def tensor_fingerprint(xi):
+    return [round(float(v), 9) for v in np.array(xi.getMatrix()).ravel()]
 
 
-def analyse(com, vel, axis):
-    """Observables of one run: VACF, C_u, MSD and the diffusion constants fitted from them."""
-    samples = len(com)
-    lags = max(4, samples//4)
-    vacf, cu = correlation(vel, min(lags, int(2/SAMPLE_PS))), correlation(axis, lags)
-    msd = statistics.mean_square_displacement(com, range(lags))
-    t = np.arange(lags)*SAMPLE_PS
-    window = slice(lags//2, lags)
-    d_t = np.polyfit(t[window], msd[window], 1)[0]/6
-    # <u(0).u(t)> = exp(-2 D_r t) for rotation about the axes across u: the slope of its logarithm.
-    positive = cu[window] > 0
-    d_r = -np.polyfit(t[window][positive], np.log(cu[window][positive]), 1)[0]/2 if positive.sum() > 2 else float('nan')
-    return {'vacf': vacf/vacf[0], 'vacf0': vacf[0], 'cu': cu, 'msd': msd, 'D_t': d_t, 'D_r': d_r}
+def viscosity_stage_name(harmonic, speed):
+    return f'viscosity_n{harmonic}_v{speed:.4f}'
 
 
-def explicit_replica(settings, platform, box, xi, seed):
-    """Two bananas among PENTANES pentanes in a box of side box: equilibrated under this integrator
-    with friction (bananas as bodies with their tensor, pentane sites with Stokes friction), then
-    NVE (zero viscosity) as in the source. Returns the observables and the temperature at the end."""
-    system, positions, bodies, _ = bm.pentane_box(PENTANES, box, seed, bananas=2, cutoff=CUTOFF)
-    integrator = rl.RigidLangevinIntegrator(TEMPERATURE, 1.0*rl.centipoise, EXPLICIT_STEP)
-    integrator.setRandomNumberSeed(seed)
-    reference = [mm.Vec3(*p) for p in bm.banana_positions()]
-    for members in bodies:
-        integrator.setBodyHydrodynamics(integrator.addRigidBody(members), xi, reference)
-    for i in range(system.getNumParticles()):
-        if system.getParticleMass(i).value_in_unit(unit.dalton) > 0 and not any(i in members for members in bodies):
-            integrator.setParticleRadius(i, 0.19)
-    context = mm.Context(system, integrator, mm.Platform.getPlatformByName(platform))
-    context.setPositions(positions)
-    context.setVelocitiesToTemperature(TEMPERATURE, seed)
-    # Half the equilibration at 1 cP relaxes the starting lattice fast; at that friction (gamma h =
-    # 0.15 for a pentane site) the configurations come out measurably cold (NVE from them settles
-    # several kelvin lower), so the second half runs at 0.01 cP (gamma h = 0.0015).
-    steps = int(round(settings['explicit_equilibration_ps']/EXPLICIT_STEP))
-    integrator.step(steps//2)
-    integrator.setViscosity(0.01*rl.centipoise)
-    integrator.step(steps-steps//2)
-    integrator.setViscosity(0.0)
-    # NVE keeps the total momentum the bath left (a centre-of-mass drift of about 0.01 nm/ps, which
-    # over tens of ps would add as much to the bananas' mean-square displacement as their own
-    # diffusion): remove it. A uniform velocity is a rigid motion, so bodies take it exactly.
-    masses = np.array([system.getParticleMass(i).value_in_unit(unit.dalton) for i in range(system.getNumParticles())])
-    velocities = context.getState(getVelocities=True).getVelocities(asNumpy=True).value_in_unit(unit.nanometer/unit.picosecond)
-    context.setVelocities((velocities-masses@velocities/masses.sum())*(masses > 0)[:, None])
-    start = time.time()
-    every = int(round(SAMPLE_PS/EXPLICIT_STEP))
-    samples = int(round(settings['explicit_ps']/SAMPLE_PS))
-    com, vel, axis = banana_observables(context, bodies, masses, every, samples, integrator)
-    seconds = time.time()-start
-    result = analyse(com, vel, axis)
-    result['ns_per_day'] = settings['explicit_ps']*1e-3/seconds*86400
-    result['temperature'] = integrator.computeSystemTemperature().value_in_unit(unit.kelvin)
-    return result
+class Study:
+    """The stages of one study folder, their runs spread over MPI ranks."""
+
+    def __init__(self, args, settings, xi, requested):
+        self.args, self.settings, self.xi, self.requested = args, settings, xi, requested
+        self.folder = StudyFolder(args.out)
+        self.comm = _communicator()
+        self.rank = self.comm.Get_rank() if self.comm is not None else 0
+        self.size = self.comm.Get_size() if self.comm is not None else 1
+        self.properties = {'Threads': str(args.threads)} if args.threads and args.platform == 'CPU' else {}
+        center = np.array(xi.getCenterOfDiffusion().value_in_unit(unit.nanometer))
+        self.weights = runs.center_weights(center)
+
+    def barrier(self):
+        if self.comm is not None:
+            self.comm.Barrier()
+
+    def open(self, name, kind, model, inputs, **extra):
+        """The stage on disk; or, if there is none and this stage is to run, a new one started
+        with inputs() (evaluated on rank 0, shared with the others); else None."""
+        d = definition(kind, self.settings, model, **extra)
+        exists = self.folder.has(name)
+        if self.comm is not None:
+            exists = self.comm.bcast(exists, root=0)  # rank 0 may start it before another rank looks
+        if exists:
+            return self.folder.stage(name, d)
+        if not self.wanted(kind):
+            return None
+        if self.rank == 0:
+            self.folder.stage(name, d, inputs())
+        self.barrier()
+        return self.folder.stage(name, d)
+
+    def run(self, stage, total, label, work):
+        return self.run_all([(stage, total, label, work)])[0]
+
+    def run_all(self, jobs):
+        """For each (stage, total, label, work): the runs of stage up to total, plus --add more;
+        work(index, seed) returns a run's arrays. All the jobs' runs are dealt out to the ranks
+        together, in turn. Only stages asked for run. Returns the stages."""
+        todo = []
+        for stage, total, label, work in jobs:
+            if stage is None or not self.wanted(self.kind(stage.name)):
+                continue
+            indices = stage.missing(total)
+            if self.args.add:
+                indices += [i for i in stage.next_indices(self.args.add+len(indices)) if i not in indices][:self.args.add]
+            if self.rank == 0 and indices:
+                print(f'{label}: {len(indices)} run(s) to do ({self.size} rank(s))', flush=True)
+            todo += [(stage, index, label, work) for index in indices]
+        for stage, index, label, work in todo[self.rank::self.size]:
+            seed = self.seed_base(stage.name)+index
+            start = time.time()
+            arrays = work(index, seed)
+            stage.save(index, seed=seed, wall_seconds=time.time()-start, **arrays)
+            print(f'  {label}: run {index} (seed {seed}) done in {time.time()-start:.0f} s', flush=True)
+        self.barrier()
+        return [job[0] for job in jobs]
+
+    def wanted(self, kind):
+        return kind in self.requested
+
+    @staticmethod
+    def kind(name):
+        return 'viscosity' if name.startswith('viscosity') else 'implicit' if name in IMPLICIT_SCHEMES else name
+
+    @staticmethod
+    def seed_base(name):
+        """Each stage its own seeds, fixed by its name: run i has seed_base + i."""
+        return 1+1000*(zlib.crc32(name.encode()) % 100000)
+
+    # The stages, in order.
+
+    def density(self):
+        s = self.settings
+        stage = self.open('density', 'density', neat_model(), lambda: {}, **ps.NPT_SETTINGS)
+
+        def work(index, seed):
+            volumes, state = ps.npt_run(s['density_ps'], seed, self.args.platform, self.properties)
+            return {'volume': volumes, 'positions': state.getPositions(asNumpy=True).value_in_unit(unit.nanometer),
+                    'velocities': state.getVelocities(asNumpy=True).value_in_unit(unit.nanometer/unit.picosecond),
+                    'box': np.array(state.getPeriodicBoxVectors().value_in_unit(unit.nanometer))}
+        return self.run(stage, s['density_runs'], 'pentane NPT', work)
+
+    def viscosity(self, density_stage):
+        s = self.settings
+        jobs = []
+        for harmonic, speed in VISCOSITY_SERIES:
+            def inputs():
+                result = density_result(require(density_stage, 'density', 'the viscosity runs'))
+                return {'box': ps.box_edge(result['density']), 'density': result['density']}
+            stage = self.open(viscosity_stage_name(harmonic, speed), 'viscosity', neat_model(), inputs, harmonic=harmonic, speed=speed,
+                              **ps.FLOW_SETTINGS)
+
+            def work(index, seed, harmonic=harmonic, speed=speed, box=stage and stage.inputs['box']):
+                starts = require(density_stage, 'density', 'the viscosity runs').indices()
+                start = density_stage.load(starts[index % len(starts)])
+                return ps.flow_run(scaled_positions(start, box), start['velocities'], box, harmonic, speed, s['viscosity_ps'], seed,
+                                   self.args.platform, self.properties, build_up_ps=s['build_up_ps'])
+            jobs.append((stage, s['viscosity_runs'], f'viscosity n={harmonic} v={speed:.4f}', work))
+        return self.run_all(jobs)
+
+    def scene_box(self):
+        s = self.settings
+        stage = self.open('scene_box', 'scene_box', scene_model(constrained=True), lambda: {}, **ps.NPT_SETTINGS)
+        return self.run(stage, s['scene_box_runs'], 'scene NPT',
+                        lambda index, seed: {'volume': runs.scene_box_run(PENTANES, s['scene_box_ps'], seed, self.args.platform, self.properties)})
+
+    def explicit(self, box_stage):
+        s = dict(self.settings, pentanes=PENTANES)
+        stage = self.open('explicit', 'explicit', scene_model(),
+                          lambda: {'box': scene_box_result(require(box_stage, 'scene_box', 'the explicit runs'))['box']},
+                          **runs.EXPLICIT_SETTINGS, tensor=tensor_fingerprint(self.xi))
+        return self.run(stage, s['replicas'], 'explicit pentane', lambda index, seed: runs.explicit_replica(
+            s, stage.inputs['box'], self.xi, self.weights, seed, self.args.platform, self.properties))
+
+    def implicit(self, explicit_stage, box_stage):
+        """The implicit runs in the explicit runs' box (the bananas meet each other as often), or
+        the scene's if there are no explicit runs yet."""
+        s = self.settings
+        jobs = []
+        for scheme in IMPLICIT_SCHEMES:
+            model = scene_model(pentanes=0, constrained=scheme == 'LangevinMiddle')
+            inputs = lambda: {'box': explicit_stage.inputs['box'] if explicit_stage is not None else
+                              scene_box_result(require(box_stage, 'scene_box', 'the implicit runs'))['box']}
+            stage = self.open(scheme, 'implicit', model, inputs, scheme=scheme, viscosity=bm.SOURCE_VISCOSITY, tensor=tensor_fingerprint(self.xi),
+                              step=runs.IMPLICIT_STEP, sample_ps=runs.SAMPLE_PS)
+            jobs.append((stage, s['implicit_replicas'], f'implicit {scheme}',
+                         lambda index, seed, scheme=scheme, stage=stage: runs.implicit_replica(
+                             s, stage.inputs['box'], self.xi, self.weights, scheme, bm.SOURCE_VISCOSITY, seed, self.args.platform,
+                             {'Threads': '1'} if self.args.platform == 'CPU' else {})))
+        return self.run_all(jobs)
 
 
-def implicit_replica(settings, platform, box, xi, scheme, viscosity, seed):
-    """The two bananas alone at viscosity (poise): under this integrator with their tensor
-    (scheme ExactFlow or BAOAB), or (scheme 'LangevinMiddle') under OpenMM's
-    LangevinMiddleIntegrator, rigid through constraints (add_constrained_banana()), with the
-    per-particle friction that gives the tensor's translational diffusion."""
-    constrained = scheme == 'LangevinMiddle'
-    system, positions, bodies, _ = bm.pentane_box(0, box, 1, bananas=2, cutoff=CUTOFF, constrained=constrained)
-    if constrained:
-        # Friction gamma m on every particle is gamma M on the centre of mass: D_t = kT/(gamma M).
-        friction = KT/(3*bm.GB_MASS*predicted_diffusion(xi, viscosity)[0])
-        integrator = mm.LangevinMiddleIntegrator(TEMPERATURE, friction, IMPLICIT_STEP)
-    else:
-        integrator = rl.RigidLangevinIntegrator(TEMPERATURE, viscosity*rl.poise, IMPLICIT_STEP)
-        integrator.setScheme(scheme)
-        reference = [mm.Vec3(*p) for p in bm.banana_positions()]
-        for members in bodies:
-            integrator.setBodyHydrodynamics(integrator.addRigidBody(members), xi, reference)
-    integrator.setRandomNumberSeed(seed)
-    context = mm.Context(system, integrator, mm.Platform.getPlatformByName(platform))
-    context.setPositions(positions)
-    context.setVelocitiesToTemperature(TEMPERATURE, seed)
-    integrator.step(int(round(settings['implicit_equilibration_ps']/IMPLICIT_STEP)))
-    masses = np.array([system.getParticleMass(i).value_in_unit(unit.dalton) for i in range(system.getNumParticles())])
-    start = time.time()
-    com, vel, axis = banana_observables(context, bodies, masses, int(round(SAMPLE_PS/IMPLICIT_STEP)),
-                                        int(round(settings['implicit_ps']/SAMPLE_PS)), integrator)
-    seconds = time.time()-start
-    result = analyse(com, vel, axis)
-    result['ns_per_day'] = settings['implicit_ps']*1e-3/seconds*86400
-    return result
+class MissingRuns(Exception):
+    """A stage needs the runs of an earlier one, and there are none."""
 
 
-def predicted_diffusion(xi, viscosity_poise):
-    """The tensor's long-time D_t (nm^2/ps: a third of the trace of the translational block of
-    kT (eta Xi)^-1 at the centre of diffusion) and D_r across the middle ellipsoid's axis (1/ps:
-    half the sum of the rotational diffusion about the banana's y and z axes)."""
-    d = np.array(xi.getDiffusionTensor(TEMPERATURE*unit.kelvin, viscosity_poise*rl.poise, xi.getCenterOfDiffusion()))
-    return np.trace(d[:3, :3])/3, (d[4, 4]+d[5, 5])/2
+def require(stage, name, needed_by):
+    if stage is None or not stage.indices():
+        raise MissingRuns(f'{needed_by} need the {name} stage\'s runs first: run --stages {name}')
+    return stage
+
+
+def scaled_positions(run, box):
+    """A density run's final positions (nm) in a cubic box of edge box (nm): each pentane moved
+    with its centre (as the barostat moves molecules), its shape kept."""
+    molecules = run['positions'].reshape(-1, 5, 3)
+    centers = molecules.mean(axis=1, keepdims=True)
+    return (molecules+centers*(box/run['box'][0][0]-1)).reshape(-1, 3)
+
+
+# --- Results ----------------------------------------------------------------------------------
+
+
+def combine(means, errors):
+    """Inverse-variance weighted mean of independent estimates, its standard error, and the
+    chi-squared of their scatter about it (about n - 1 if the errors are right)."""
+    means, errors = np.asarray(means, dtype=float), np.asarray(errors, dtype=float)
+    weights = 1/errors**2
+    mean = float(np.sum(weights*means)/np.sum(weights))
+    return mean, float(1/math.sqrt(np.sum(weights))), float(np.sum(((means-mean)/errors)**2))
+
+
+def density_result(stage):
+    """The neat solvent's density (g/mL) from every density run: each run's settled mean volume,
+    combined. Returns {'density', 'error', 'volume', 'volume_error', 'runs': [settled_mean of each]}."""
+    settled = [ps.settled_mean(run['volume']) for _, run in stage.runs()]
+    volume, volume_error, chi2 = combine([r['mean'] for r in settled], [r['error'] for r in settled])
+    density = ps.density_from_volume(volume)
+    return {'density': density, 'error': density*volume_error/volume, 'volume': volume, 'volume_error': volume_error,
+            'chi2': chi2, 'runs': settled}
+
+
+def scene_box_result(stage):
+    settled = [ps.settled_mean(run['volume']) for _, run in stage.runs()]
+    volume, error, chi2 = combine([r['mean'] for r in settled], [r['error'] for r in settled])
+    return {'box': volume**(1/3), 'box_error': volume**(1/3)*error/(3*volume), 'volume': volume, 'volume_error': error, 'chi2': chi2}
+
+
+def viscosity_result(stage):
+    """eta (amu/(nm ps)) of one harmonic and flow speed, combined over its runs, with the
+    temperature of the motion less the flow."""
+    etas, errors, temperatures = [], [], []
+    for _, run in stage.runs():
+        flow = ps.settled_mean(run['V'])
+        eta, error = ps.viscosity_from_flow(float(run['amplitude']), float(run['density']), float(run['wavenumber']), flow['mean'], flow['error'])
+        etas.append(eta)
+        errors.append(error)
+        temperatures.append(float(np.mean(run['temperature'])))
+        k = float(run['wavenumber'])
+    eta, error, chi2 = combine(etas, errors)
+    return {'eta': eta, 'error': error, 'wavenumber': k, 'temperature': float(np.mean(temperatures)), 'runs': len(etas), 'chi2': chi2,
+            'harmonic': stage.definition['harmonic'], 'speed': stage.definition['speed']}
+
+
+def fit_slope(t, y, window):
+    inside = (t >= window[0]-1e-9) & (t <= window[1]+1e-9)
+    return float(np.polyfit(t[inside], y[inside], 1)[0])
+
+
+def replica_constants(stage, window):
+    """Per replica: D_t (nm^2/ps) from the slope of the mean-square displacement of the centres of
+    diffusion over window (ps), D_r (1/ps) from that of -log <u(0).u(t)> / 2."""
+    d_t, d_r = [], []
+    for _, run in stage.runs():
+        t = np.arange(len(run['msd']))*runs.COARSE_PS
+        d_t.append(fit_slope(t, run['msd'], window)/6)
+        d_r.append(-fit_slope(t, np.log(np.clip(run['cu'], 1e-12, None)), window)/2)
+    return np.array(d_t), np.array(d_r)
+
+
+def mean_error(values):
+    values = np.asarray(values, dtype=float)
+    return float(values.mean()), float(values.std(ddof=1)/math.sqrt(len(values))) if len(values) > 1 else float('nan')
+
+
+def curves(stage, key):
+    values = np.array([run[key]/(run[key][0] if key == 'vacf' else 1) for _, run in stage.runs()])
+    return values.mean(axis=0), (values.std(axis=0, ddof=1)/math.sqrt(len(values)) if len(values) > 1 else np.zeros(values.shape[1]))
+
+
+def has_runs(*stages):
+    return all(stage is not None and stage.indices() for stage in stages)
+
+
+def write_report(out, settings, xi, density_stage, viscosity_stages, box_stage, explicit_stage, implicit_stages):
+    """Every table and plot that the runs on disk allow; returns the names of the tables written."""
+    import matplotlib
+    matplotlib.use('Agg')
+    written = ['tensor.md']
+    if not has_runs(density_stage, *viscosity_stages):
+        return written
+    eta0, eta0_error = solvent_report(out, settings, density_stage, viscosity_stages)
+    written.append('pentane.md')
+    if has_runs(box_stage, explicit_stage, *implicit_stages):
+        banana_report(out, settings, xi, eta0, eta0_error, box_stage, explicit_stage, implicit_stages)
+        written.append('diffusion.md')
+    return written
+
+
+def solvent_report(out, settings, density_stage, viscosity_stages):
+    """pentane.md and density_trace.png; returns the model's viscosity at k = 0 and its error (amu/(nm ps))."""
+    import matplotlib.pyplot as plt
+    density = density_result(density_stage)
+    viscosities = [viscosity_result(stage) for stage in viscosity_stages]
+    fitted = [v for v in viscosities if abs(v['speed']*v['harmonic']-VISCOSITY_SERIES[0][1]) < 1e-9]  # equal largest shear rates
+    eta0, eta0_error, slope, slope_error, fit_chi2 = ps.extrapolate_to_zero_wavenumber(
+        [v['wavenumber'] for v in fitted], [v['eta'] for v in fitted], [v['error'] for v in fitted])
+    cp = ps.AMU_PER_NM_PS_IN_CP
+    deviation = density['density']/ps.EXPERIMENT_DENSITY-1
+    lines = ['# The pentane model at 273.15 K and 1 bar', '',
+             f'TraPPE-UA (Martin & Siepmann 1998; harmonic bonds, see banana_model.py), {PENTANES} molecules, Lennard-Jones cut at '
+             f'{bm.CUTOFF} nm with the analytic tail correction (TraPPE\'s own treatment).', '',
+             '| | this model | experiment |', '|---|---|---|',
+             f'| density (g/mL), NPT at 1 bar | {density["density"]:.4f} ± {density["error"]:.4f} ({100*density["error"]/density["density"]:.2f}%) | '
+             f'{ps.EXPERIMENT_DENSITY} (model {100*deviation:+.2f}%) |',
+             f'| shear viscosity (cP), periodic perturbation extrapolated to k = 0 | {eta0*cp:.3f} ± {eta0_error*cp:.3f} '
+             f'({100*eta0_error/eta0:.1f}%) | {ps.EXPERIMENT_VISCOSITY} |', '',
+             f'Density: {len(density["runs"])} NPT run(s) of {settings["density_ps"]:g} ps from a lattice at the experimental density '
+             f'(LangevinMiddleIntegrator 1/ps, Monte Carlo barostat); each run\'s start before it settled is dropped (Chodera\'s '
+             'equilibration detection), its error from the statistical inefficiency of the rest; runs combined by inverse variance '
+             f'(chi-squared {density["chi2"]:.2f} for {len(density["runs"])-1} degree(s) of freedom).', '',
+             '| run | settled after (ps) | statistical inefficiency (samples of 0.1 ps) | density (g/mL) |', '|---|---|---|---|']
+    for i, r in enumerate(density['runs']):
+        d = ps.density_from_volume(r['mean'])
+        lines.append(f'| {i} | {r["start"]*0.1:.1f} | {r["inefficiency"]:.1f} | {d:.4f} ± {d*r["error"]/r["mean"]:.4f} |')
+    lines += ['', f'Viscosity: velocity Verlet with a periodic acceleration A cos(kz) along x and stochastic velocity rescaling of the '
+              f'motion less the flow (pentane_solvent.py), at the density above as it was when the viscosity runs began '
+              f'({viscosity_stages[0].inputs["density"]:.4f} g/mL, box {viscosity_stages[0].inputs["box"]:.4f} nm); '
+              f'{settings["viscosity_ps"]:g} ps per run after {settings["build_up_ps"]:g} ps of build-up.', '',
+              '| harmonic n | k (1/nm) | flow speed (nm/ps) | runs | temperature less the flow (K) | eta (cP) |', '|---|---|---|---|---|---|']
+    for v in viscosities:
+        lines.append(f'| {v["harmonic"]} | {v["wavenumber"]:.4f} | {v["speed"]:.4f} | {v["runs"]} | {v["temperature"]:.2f} | '
+                     f'{v["eta"]*cp:.4f} ± {v["error"]*cp:.4f} |')
+    lines += ['', f'Extrapolation eta(k) = eta_0 + c k^2 over the runs at equal largest shear rate (k V = {VISCOSITY_SERIES[0][1]*2*math.pi/viscosity_stages[0].inputs["box"]:.3f}/ps): '
+              f'eta_0 = {eta0*cp:.4f} ± {eta0_error*cp:.4f} cP, c = {slope*cp:.5f} ± {slope_error*cp:.5f} cP nm^2, chi-squared {fit_chi2:.2f} '
+              f'for {len(fitted)-2} degree(s) of freedom.', '']
+    (out/'pentane.md').write_text('\n'.join(lines))
+
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4))
+    for i, (_, run) in enumerate(density_stage.runs()):
+        t = (np.arange(len(run['volume']))+1)*0.1
+        left.plot(t, ps.density_from_volume(run['volume']), lw=0.6, label=f'run {i}')
+        r = density['runs'][i]
+        left.axvline(r['start']*0.1, color=left.lines[-1].get_color(), ls=':', lw=1)
+    left.axhspan(density['density']-density['error'], density['density']+density['error'], color='k', alpha=0.3, label='settled mean ± SE')
+    left.axhline(ps.EXPERIMENT_DENSITY, color='r', ls='--', label='experiment')
+    left.set_xlabel('t (ps)')
+    left.set_ylabel('density (g/mL)')
+    left.set_title('pentane NPT, 273.15 K, 1 bar (dotted: settled from)')
+    left.legend(fontsize=8)
+    k2 = np.array([v['wavenumber']**2 for v in viscosities])
+    right.errorbar(k2, [v['eta']*cp for v in viscosities], yerr=[v['error']*cp for v in viscosities], fmt='o', capsize=3)
+    for v in viscosities:
+        right.annotate(f'n={v["harmonic"]}, V={v["speed"]:.3f}', (v['wavenumber']**2, v['eta']*cp), fontsize=7, xytext=(4, 4), textcoords='offset points')
+    grid = np.linspace(0, k2.max()*1.05, 50)
+    right.plot(grid, (eta0+slope*grid)*cp, 'k-', lw=1, label=f'fit: eta_0 = {eta0*cp:.3f} ± {eta0_error*cp:.3f} cP')
+    right.axhline(ps.EXPERIMENT_VISCOSITY, color='r', ls='--', label='experiment')
+    right.set_xlabel('k^2 (1/nm^2)')
+    right.set_ylabel('eta (cP)')
+    right.set_title('periodic perturbation')
+    right.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out/'density_trace.png', dpi=120)
+    plt.close(fig)
+    return eta0, eta0_error
+
+
+def banana_report(out, settings, xi, eta0, eta0_error, box_stage, explicit_stage, implicit_stages):
+    """diffusion.md/.csv and correlations.csv/.png."""
+    import matplotlib.pyplot as plt
+    cp = ps.AMU_PER_NM_PS_IN_CP
+    window = settings['window_ps']
+    scene = scene_box_result(box_stage)
+    box = explicit_stage.inputs['box']
+    predicted_t, predicted_r = runs.predicted_diffusion(xi, bm.SOURCE_VISCOSITY)
+    rows = []
+    constants = {}
+    for name, stage in [('explicit', explicit_stage)]+list(zip(IMPLICIT_SCHEMES, implicit_stages)):
+        d_t, d_r = replica_constants(stage, window)
+        constants[name] = (mean_error(d_t), mean_error(d_r))
+        speed = [(settings['production_ps'] if name == 'explicit' else settings['implicit_ps'])*1e-3/float(run['seconds'])*86400
+                 for _, run in stage.runs()]
+        rows.append({'run': name, 'replicas': len(d_t), 'D_t (1e-5 cm^2/s)': constants[name][0][0]*CM2_S, 'D_t error': constants[name][0][1]*CM2_S,
+                     'D_r (1/ns)': constants[name][1][0]*1e3, 'D_r error': constants[name][1][1]*1e3, 'ns/day': float(np.median(speed))})
+    # The explicit bananas diffuse in a periodic box, which slows translation by
+    # xi_EW kT/(6 pi eta L) (Yeh & Hummer, J. Phys. Chem. B 108, 15873 (2004)), eta the solvent
+    # model's own viscosity; rotation's correction is of order the banana's volume over the box's.
+    (d_t_box, d_t_box_err), (d_r, d_r_err) = constants['explicit']
+    finite_size = 2.837297*ps.KT/(6*math.pi*eta0*box)  # nm^2/ps
+    d_t = d_t_box+finite_size
+    d_t_err = math.hypot(d_t_box_err, finite_size*eta0_error/eta0)
+    rows.insert(1, dict(rows[0], run='explicit, finite-size corrected', **{'D_t (1e-5 cm^2/s)': d_t*CM2_S, 'D_t error': d_t_err*CM2_S}))
+    with open(out/'diffusion.csv', 'w', newline='') as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    # Long-time diffusion under this integrator is kT (eta Xi)^-1 whatever the mass, so D scales as
+    # 1/eta: the viscosity at which the implicit model diffuses as the explicit bananas do.
+    eta_t, eta_r = bm.SOURCE_VISCOSITY*predicted_t/d_t*100, bm.SOURCE_VISCOSITY*predicted_r/d_r*100  # cP
+    explicit_runs = [run for _, run in explicit_stage.runs()]
+    temperatures = [float(np.mean(run['temperature'])) for run in explicit_runs]
+    t_mean, t_err = mean_error(temperatures)
+    drifts = [np.polyfit(np.arange(len(run['energy']))*runs.COARSE_PS*1e-3, run['energy'], 1)[0]/(PENTANES+2) for run in explicit_runs]
+    drift, drift_err = mean_error(drifts)
+    lines = ['# Bananas in explicit pentane against implicit solvent at 273.15 K', '',
+             f'Replicas of each run are independent (their own starts and seeds); standard errors from their spread. Box {box:.4f} nm '
+             f'(the scene\'s mean volume under a barostat, {scene["box"]:.4f} ± {scene["box_error"]:.4f} nm now).',
+             f'Explicit runs: {settings["melt_ps"]:g} ps at 1 cP and {settings["equilibration_ps"]:g} ps at 0.01 cP under this integrator, then '
+             f'{settings["production_ps"]:g} ps of NVE at the total energy of 273.15 K. Their mean temperature {t_mean:.2f} ± {t_err:.2f} K; '
+             f'energy drift {drift:+.4f} ± {drift_err:.4f} kJ/mol/ns per molecule. D_t from the mean-square displacement of the '
+             f'centres of diffusion and D_r from <u(0).u(t)> = exp(-2 D_r t), both fitted over lags of {window[0]:g}-{window[1]:g} ps. '
+             f'Finite-size correction of D_t +{finite_size*CM2_S:.3f} 1e-5 cm^2/s (Yeh-Hummer, with the model\'s own viscosity).', '',
+             '| run | replicas | D_t (1e-5 cm^2/s) | D_r across the middle axis (1/ns) | ns/day (median replica) |', '|---|---|---|---|---|']
+    for row in rows:
+        lines.append(f"| {row['run']} | {row['replicas']} | {row['D_t (1e-5 cm^2/s)']:.3f} ± {row['D_t error']:.3f} "
+                     f"({100*row['D_t error']/row['D_t (1e-5 cm^2/s)']:.1f}%) | {row['D_r (1/ns)']:.3f} ± {row['D_r error']:.3f} "
+                     f"({100*row['D_r error']/row['D_r (1/ns)']:.1f}%) | {row['ns/day']:.1f} |")
+    lines += [f'| the tensor at 0.289 cP (exact, long time) | | {predicted_t*CM2_S:.3f} | {predicted_r*1e3:.3f} | |', '',
+              'Viscosity at which the implicit model reproduces the explicit diffusion (D scales as 1/eta):', '',
+              f'- translational: {eta_t:.4f} ± {eta_t*d_t_err/d_t:.4f} cP (from the periodic box\'s D_t without the correction: '
+              f'{eta_t*d_t/d_t_box:.4f} ± {eta_t*d_t/d_t_box*d_t_box_err/d_t_box:.4f} cP)',
+              f'- rotational: {eta_r:.4f} ± {eta_r*d_r_err/d_r:.4f} cP',
+              f'- the pentane model\'s own shear viscosity: {eta0*cp:.4f} ± {eta0_error*cp:.4f} cP; experiment {ps.EXPERIMENT_VISCOSITY} cP', '']
+    (out/'diffusion.md').write_text('\n'.join(lines))
+
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4))
+    with open(out/'correlations.csv', 'w', newline='') as f:
+        writer = csv.writer(f)
+        writer.writerow(['run', 'quantity', 't (ps)', 'mean', 'standard error'])
+        for name, stage in [('explicit', explicit_stage)]+list(zip(IMPLICIT_SCHEMES, implicit_stages)):
+            for key, axes, dt in (('vacf', left, runs.SAMPLE_PS), ('cu', right, runs.COARSE_PS)):
+                mean, error = curves(stage, key)
+                t = np.arange(len(mean))*dt
+                axes.plot(t, mean, label=name)
+                axes.fill_between(t, mean-error, mean+error, alpha=0.3)
+                writer.writerows([name, key, f'{ti:.3f}', f'{m:.6g}', f'{e:.3g}'] for ti, m, e in zip(t, mean, error))
+    left.set_xlim(0, runs.VACF_PS)
+    left.set_xlabel('t (ps)')
+    left.set_title('VACF of the centres of mass (normalised)')
+    right.set_xlabel('t (ps)')
+    right.set_yscale('log')
+    right.set_title('<u(0).u(t)>, middle ellipsoid')
+    left.legend()
+    fig.tight_layout()
+    fig.savefig(out/'correlations.png', dpi=120)
+    plt.close(fig)
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--quick', action='store_true', help='every stage, short (minutes)')
-    parser.add_argument('--medium', action='store_true', help='every stage, long enough for rough numbers (about 40 minutes on 2 cores)')
-    parser.add_argument('--out', default='out/banana_scene', help='output directory')
+    parser.add_argument('--out', help='the study folder (default examples/results/banana_scene, or out/banana_scene with --quick)')
+    parser.add_argument('--stages', default='all', help='stages to run (comma-separated, of density, viscosity, scene_box, explicit, '
+                        'implicit; default all); the report is written from whatever every stage has on disk')
+    parser.add_argument('--replicas', type=int, help='explicit and implicit replicas to have (default 8, 2 with --quick)')
+    parser.add_argument('--add', type=int, default=0, help='runs to add to each stage named by --stages beyond those the settings ask for')
     parser.add_argument('--platform', default='CPU')
-    parser.add_argument('--replicas', type=int, help='independent replicas of every run (default 2 quick, 8 full)')
-    parser.add_argument('--seed', type=int, default=1)
+    parser.add_argument('--threads', type=int, help='threads per rank on the CPU platform (default: all cores)')
     parser.add_argument('--ps-scale', type=float, default=1.0, help='scale every run length by this (for tests)')
+    parser.add_argument('--report-only', action='store_true', help='write the tables and plots from the runs on disk, run nothing')
     args = parser.parse_args(argv)
-    settings = dict(SETTINGS['quick' if args.quick else 'medium' if args.medium else 'full'])
+    settings = dict(SETTINGS['quick' if args.quick else 'full'])
     for key in settings:
-        if key.endswith('_ps'):
+        if key.endswith('_ps') and not isinstance(settings[key], tuple):
             settings[key] *= args.ps_scale
+    if args.ps_scale != 1.0:
+        settings['window_ps'] = tuple(w*args.ps_scale for w in settings['window_ps'])
     if args.replicas:
-        settings['replicas'] = args.replicas
-    out = pathlib.Path(args.out)
+        settings['replicas'] = settings['implicit_replicas'] = args.replicas
+    out = pathlib.Path(args.out or ('out/banana_scene' if args.quick else pathlib.Path(__file__).resolve().parent/'results'/'banana_scene'))
+    args.out = out
     out.mkdir(parents=True, exist_ok=True)
+    kinds = ('density', 'viscosity', 'scene_box', 'explicit', 'implicit')
+    requested = set(kinds) if args.stages == 'all' else set(args.stages.split(','))
+    if requested-set(kinds):
+        parser.error(f'unknown stage(s) {sorted(requested-set(kinds))}; the stages are {", ".join(kinds)}')
     started = time.time()
-
     xi = tensor_comparison(settings, out)
-    print((out/'tensor.md').read_text().split('\n\n')[-2], flush=True)
-
-    # The solvent model on its own: density under a barostat, then shear viscosity at that density.
-    density_runs = run_ensemble(lambda i, seed: dict(zip(('volume', 'error', 'state'), pentane_density(settings, args.platform, seed))),
-                                settings['replicas'], args.seed, 'pentane NPT')
-    density_runs = broadcast(density_runs)
-    volume, volume_error = density_runs['volume']
-    grams = lambda v: bm.PENTANE_MASS/(6.02214076e23*v*1e-21)
-    density, density_error = grams(volume), grams(volume)*volume_error/volume
-    states = [v['state'] for v in density_runs.values]
-    viscosity_runs = run_ensemble(lambda i, seed: dict(zip(('eta', 'error', 'length'), pentane_viscosity(settings, args.platform, states[i], seed))),
-                                  settings['replicas'], args.seed+100, 'pentane viscosity')
-    eta_pentane, eta_pentane_error = viscosity_runs['eta']
-    (out/'pentane.md').write_text('\n'.join([
-        '# The pentane model at 273 K', '',
-        'TraPPE-UA (harmonic bonds, see banana_model.py), Gay-Berne cutoff 1.0 nm switched from 0.9 nm, no tail correction.', '',
-        '| | this model | experiment |', '|---|---|---|',
-        f'| density (g/mL), NPT at 1 bar | {density:.4f} +- {density_error:.4f} | {PENTANE_DENSITY_273K} |',
-        f'| shear viscosity (cP), periodic perturbation | {eta_pentane:.3f} +- {eta_pentane_error:.3f} | {PENTANE_VISCOSITY_273K} |', '',
-        f'{settings["replicas"]} replicas of {settings["density_ps"]} ps NPT (from the experimental density; the second half averaged) and '
-        f'{settings["viscosity_ps"]} ps of periodic perturbation after {settings["viscosity_equilibration_ps"]} ps of build-up '
-        f'(flow amplitude about 0.05 nm/ps, wavelength the box, {np.mean([v["length"] for v in viscosity_runs.values]):.3f} nm).', '']))
-    print((out/'pentane.md').read_text(), flush=True)
-
-    # The scene's box: the pentanes at the model's own density, plus the bananas' volume (three
-    # ellipsoids each, over a packing fraction of one half: 0.4% of the box, an estimate).
-    banana_volume = 3*4/3*math.pi*(bm.GB_LENGTH/2)*(bm.GB_BREADTH/2)**2/0.5
-    box = (PENTANES*volume+2*banana_volume)**(1/3)
-
-    runs = {}
-    runs['explicit'] = run_ensemble(lambda i, seed: explicit_replica(settings, args.platform, box, xi, seed), settings['replicas'],
-                                    args.seed+200, 'explicit pentane')
-    for name, scheme in (('ExactFlow', rl.RigidLangevinIntegrator.ExactFlow), ('BAOAB', rl.RigidLangevinIntegrator.BAOAB),
-                         ('LangevinMiddle', 'LangevinMiddle')):
-        runs[name] = run_ensemble(lambda i, seed: implicit_replica(settings, args.platform, box, xi, scheme, bm.SOURCE_VISCOSITY, seed),
-                                  settings['replicas'], args.seed+300, f'implicit {name}')
-    write_results(out, settings, runs, xi, eta_pentane, eta_pentane_error, box)
-    print(f'total {time.time()-started:.0f} s', flush=True)
-
-
-def write_results(out, settings, runs, xi, eta_pentane, eta_pentane_error, box):
-    predicted_t, predicted_r = predicted_diffusion(xi, bm.SOURCE_VISCOSITY)
-    rows = []
-    for name, result in runs.items():
-        d_t, d_t_err = result['D_t']
-        d_r, d_r_err = result['D_r']
-        speed, speed_err = result['ns_per_day']
-        rows.append({'run': name, 'D_t (1e-5 cm^2/s)': d_t*CM2_S, 'D_t error': d_t_err*CM2_S, 'D_r (1/ns)': d_r*1e3, 'D_r error': d_r_err*1e3,
-                     'ns/day': speed, 'ns/day error': speed_err})
-    # The explicit bananas diffuse in a periodic box, which slows translation by
-    # xi_EW kT/(6 pi eta L) (Yeh & Hummer, J. Phys. Chem. B 108, 15873 (2004)), eta the solvent
-    # model's own viscosity; rotation's correction is of order the banana's volume over the box's.
-    # The implicit model is an unbounded fluid: compare with the corrected D_t.
-    d_t_box, d_t_box_err = runs['explicit']['D_t']
-    finite_size = 2.837297*KT/(6*math.pi*eta_pentane/AMU_PER_NM_PS_IN_CP*box)  # nm^2/ps
-    d_t = d_t_box+finite_size
-    d_t_err = math.hypot(d_t_box_err, finite_size*eta_pentane_error/eta_pentane)
-    explicit = next(row for row in rows if row['run'] == 'explicit')
-    rows.insert(rows.index(explicit)+1, dict(explicit, run='explicit, finite-size corrected', **{'D_t (1e-5 cm^2/s)': d_t*CM2_S, 'D_t error': d_t_err*CM2_S}))
-    # Long-time diffusion under this integrator is kT (eta Xi)^-1 whatever the mass, so D scales as
-    # 1/eta: the viscosity at which the implicit model diffuses as the explicit bananas do.
-    d_r, d_r_err = runs['explicit']['D_r']
-    with open(out/'diffusion.csv', 'w', newline='') as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-    eta_t, eta_r = bm.SOURCE_VISCOSITY*predicted_t/d_t*100, bm.SOURCE_VISCOSITY*predicted_r/d_r*100  # cP
-    temperature = runs['explicit'].get('temperature', (float('nan'), float('nan')))
-    lines = ['# Bananas in explicit pentane against implicit solvent at 273 K', '',
-             f'{settings["replicas"]} independent replicas of each run; standard errors from their spread. Box {box:.3f} nm.',
-             f'Explicit runs: NVE after {settings["explicit_equilibration_ps"]} ps under this integrator (half at 1 cP, half at 0.01 cP), total '
-             f'momentum removed; '
-             f'temperature at their end {temperature[0]:.1f} +- {temperature[1]:.1f} K; finite-size correction of D_t +{finite_size*CM2_S:.3f} 1e-5 cm^2/s '
-             f'(Yeh-Hummer, with the model\'s own viscosity).', '',
-             '| run | D_t (1e-5 cm^2/s) | D_r across the middle axis (1/ns) | ns/day |', '|---|---|---|---|']
-    for row in rows:
-        lines.append(f"| {row['run']} | {row['D_t (1e-5 cm^2/s)']:.3f} +- {row['D_t error']:.3f} | {row['D_r (1/ns)']:.3f} +- {row['D_r error']:.3f} | "
-                     f"{row['ns/day']:.2f} |")
-    lines += [f'| the tensor at 0.289 cP (exact, long time) | {predicted_t*CM2_S:.3f} | {predicted_r*1e3:.3f} | |', '',
-              'Viscosity at which the implicit model reproduces the explicit diffusion (D scales as 1/eta):', '',
-              f'- translational: {eta_t:.3f} +- {eta_t*d_t_err/d_t:.3f} cP (from the periodic box\'s D_t without the correction: '
-              f'{eta_t*d_t/d_t_box:.3f} +- {eta_t*d_t/d_t_box*d_t_box_err/d_t_box:.3f} cP)',
-              f'- rotational: {eta_r:.3f} +- {eta_r*d_r_err/d_r:.3f} cP',
-              f'- the pentane model\'s own shear viscosity: {eta_pentane:.3f} +- {eta_pentane_error:.3f} cP; experiment {PENTANE_VISCOSITY_273K} cP', '']
-    (out/'diffusion.md').write_text('\n'.join(lines))
-    print('\n'.join(lines), flush=True)
-    # Correlation functions, explicit against implicit.
-    import matplotlib
-    matplotlib.use('Agg')
-    import matplotlib.pyplot as plt
-    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
-    with open(out/'correlations.csv', 'w', newline='') as f:
-        writer = csv.writer(f)
-        writer.writerow(['run', 'quantity', 't (ps)', 'mean', 'standard error'])
-        for name, result in runs.items():
-            for key, axes, label in (('vacf', left, 'VACF of the centres (normalised)'), ('cu', right, '<u(0).u(t)>, middle ellipsoid')):
-                mean, error = result[key]
-                t = np.arange(len(mean))*SAMPLE_PS
-                axes.plot(t, mean, label=name)
-                axes.fill_between(t, mean-error, mean+error, alpha=0.3)
-                axes.set_xlabel('t (ps)')
-                axes.set_title(label)
-                writer.writerows([name, key, f'{ti:.3f}', f'{m:.6g}', f'{e:.3g}'] for ti, m, e in zip(t, mean, error))
-    left.set_xlim(0, 1)
-    left.legend()
-    fig.tight_layout()
-    fig.savefig(out/'correlations.png', dpi=120)
+    study = Study(args, settings, xi, set() if args.report_only else requested)
+    try:
+        density = study.density()
+        viscosity = study.viscosity(density)
+        box = study.scene_box()
+        explicit = study.explicit(box)
+        implicit = study.implicit(explicit, box)
+    except (StudyMismatch, MissingRuns) as error:
+        sys.exit(f'banana_scene.py: {error}')
+    if study.rank == 0:
+        for name in write_report(out, settings, xi, density, viscosity, box, explicit, implicit):
+            print((out/name).read_text(), flush=True)
+        print(f'total {time.time()-started:.0f} s', flush=True)
 
 
 if __name__ == '__main__':

@@ -22,10 +22,10 @@ def reference_context(system, positions):
 def two_bananas_apart(rotation, offset):
     """Two bananas, the second turned by rotation and moved by offset (nm), no cutoff."""
     system, positions = mm.System(), []
-    gayberne = bm.gayberne_force()
-    first = bm.add_banana(system, gayberne, positions)
-    second = bm.add_banana(system, gayberne, positions, rotation, offset)
-    system.addForce(gayberne)
+    forces = bm.SceneForces(cutoff=None)
+    first = bm.add_banana(system, forces, positions)
+    second = bm.add_banana(system, forces, positions, rotation, offset)
+    forces.add_to(system)
     return system, positions, first, second
 
 
@@ -133,11 +133,10 @@ def test_shell_at_the_source_bead_count():
 
 def test_pentane_terms_are_trappe():
     system, positions = mm.System(), []
-    gayberne = bm.gayberne_force()
-    bonds, angles, torsions = mm.HarmonicBondForce(), mm.HarmonicAngleForce(), mm.RBTorsionForce()
-    sites = bm.add_pentane(system, gayberne, (bonds, angles, torsions), positions, np.zeros(3), np.array([1.0, 0, 0]))
-    for force in (gayberne, bonds, angles, torsions):
-        system.addForce(force)
+    forces = bm.SceneForces(cutoff=None)
+    sites = bm.add_pentane(system, forces, positions, np.zeros(3), np.array([1.0, 0, 0]))
+    forces.add_to(system)
+    torsions = forces.torsions
     assert [system.getParticleMass(i)._value for i in sites] == [15.035, 14.027, 14.027, 14.027, 15.035]
     xyz = np.array([[c for c in p] for p in positions])
     # Built with the fixed bond and the equilibrium angle: all-trans, bends and bonds at rest.
@@ -157,9 +156,16 @@ def test_pentane_terms_are_trappe():
         tc.setPositions(p)
         energy = tc.getState(getEnergy=True).getPotentialEnergy()._value
         assert energy == pytest.approx(c1*(1+math.cos(phi))+c2*(1-math.cos(2*phi))+c3*(1+math.cos(3*phi)), abs=1e-9)
-    # Within the molecule only the two ends, four bonds apart, interact by Lennard-Jones.
-    excluded = {tuple(sorted(gayberne.getExceptionParameters(k)[:2])) for k in range(gayberne.getNumExceptions())}
+    # Within the molecule only the two ends, four bonds apart, interact by Lennard-Jones: TraPPE's
+    # sigma and epsilon, which the sites' Gay-Berne entries leave to the NonbondedForce.
+    lj = forces.lennard_jones
+    excluded = {tuple(sorted(lj.getExceptionParameters(k)[:2])) for k in range(lj.getNumExceptions())}
     assert excluded == {(sites[i], sites[j]) for i in range(5) for j in range(i+1, 5) if j-i <= 3}
+    assert all(lj.getExceptionParameters(k)[4]._value == 0 for k in range(lj.getNumExceptions()))
+    for i, kind in zip(sites, ['CH3', 'CH2', 'CH2', 'CH2', 'CH3']):
+        sigma, eps_k, _ = bm.TRAPPE_SITES[kind]
+        assert [v._value for v in lj.getParticleParameters(i)] == [0.0, sigma, pytest.approx(eps_k*bm.BOLTZ, rel=1e-15)]
+        assert forces.gayberne.getParticleParameters(i)[1]._value == 0
 
 
 def test_constrained_banana_matches_the_body():
@@ -173,10 +179,10 @@ def test_constrained_banana_matches_the_body():
     energies = []
     for add in (bm.add_banana, bm.add_constrained_banana):
         system, positions = mm.System(), []
-        gayberne = bm.gayberne_force()
-        first = add(system, gayberne, positions, turn, shift)
-        bm.add_banana(system, gayberne, positions, np.eye(3), np.zeros(3))
-        system.addForce(gayberne)
+        forces = bm.SceneForces(cutoff=None)
+        first = add(system, forces, positions, turn, shift)
+        bm.add_banana(system, forces, positions, np.eye(3), np.zeros(3))
+        forces.add_to(system)
         context = reference_context(system, positions)
         state = context.getState(getEnergy=True, getPositions=True)
         energies.append(state.getPotentialEnergy()._value)
@@ -198,8 +204,9 @@ def test_constrained_banana_matches_the_body():
 
 @pytest.mark.parametrize('scheme', ['ExactFlow', 'BAOAB'])
 def test_free_bananas_diffuse_as_their_tensor_predicts(scheme):
-    # The scene's matching viscosities rest on banana_scene.predicted_diffusion(): long-time D_t, a
-    # third of the translational trace of kT (eta Xi)^-1 at the centre of diffusion, and
+    # The scene's matching viscosities rest on banana_runs.predicted_diffusion(): long-time D_t, a
+    # third of the translational trace of kT (eta Xi)^-1 at the centre of diffusion (whose
+    # displacement the scene measures), and
     # <u(0).u(t)> = exp(-2 D_r t) for the middle ellipsoid's axis u (exact at long times: u is a
     # principal axis of the rotational mobility, by the banana's two mirror planes). 2000 free
     # bananas at a quarter of the source's viscosity (faster diffusion, better statistics per
@@ -208,7 +215,7 @@ def test_free_bananas_diffuse_as_their_tensor_predicts(scheme):
     # add little information and much variance. The standard error is the spread over 20 groups
     # of 100 bananas: 0.6-0.9% here (60 ps; 0.4-0.7% at 80 ps), small enough to see 5%.
     import rigidlangevin as rl
-    import banana_scene as scene
+    import banana_runs as scene
     viscosity = bm.SOURCE_VISCOSITY/4
     xi = bm.resistance_tensor(maxBeads=1000)
     system, positions, bodies = mm.System(), [], []
@@ -217,26 +224,158 @@ def test_free_bananas_diffuse_as_their_tensor_predicts(scheme):
     integrator.setRandomNumberSeed(7)
     rng = np.random.default_rng(7)
     reference = [mm.Vec3(*p) for p in bm.banana_positions()]
+    unused = bm.SceneForces(cutoff=None)  # free bananas: their forces stay out of the System
     for b in range(2000):
         turn, _ = np.linalg.qr(rng.normal(size=(3, 3)))
         turn *= np.sign(np.linalg.det(turn))
-        members = bm.add_banana(system, bm.gayberne_force(), positions, turn, np.array([4.0*(b % 40), 4.0*(b//40), 0.0]))
+        members = bm.add_banana(system, unused, positions, turn, np.array([4.0*(b % 40), 4.0*(b//40), 0.0]))
         integrator.setBodyHydrodynamics(integrator.addRigidBody(members), xi, reference)
         bodies.append(members)
     context = mm.Context(system, integrator, mm.Platform.getPlatformByName('CPU'))
     context.setPositions(positions)
     context.setVelocitiesToTemperature(scene.TEMPERATURE, 7)
-    masses = np.array([system.getParticleMass(i)._value for i in range(system.getNumParticles())])
     integrator.step(1000)
-    com, _, axis = scene.banana_observables(context, bodies, masses, 50, 600, integrator)  # every 0.1 ps
+    weights = scene.center_weights(np.array(xi.getCenterOfDiffusion()._value))
+    centers, axis = [], []
+    for _ in range(600):  # every 0.1 ps
+        integrator.step(50)
+        x = context.getState(getPositions=True).getPositions(asNumpy=True)._value[np.array(bodies)]
+        centers.append(np.einsum('k,bkj->bj', weights, x))
+        u = x[:, 4]-x[:, 3]
+        axis.append(u/np.linalg.norm(u, axis=1, keepdims=True))
+    centers, axis = np.array(centers), np.array(axis)
     predicted_t, predicted_r = scene.predicted_diffusion(xi, viscosity)
     groups = np.arange(2000).reshape(20, 100)
     def slope(series, lags):
         return np.polyfit(0.1*lags, series, 1)[0]
     lags = np.arange(20, 61)  # 2-6 ps
-    d_t = [slope([np.mean(np.sum((com[lag:, g]-com[:-lag, g])**2, axis=2)) for lag in lags], lags)/6 for g in groups]
+    d_t = [slope([np.mean(np.sum((centers[lag:, g]-centers[:-lag, g])**2, axis=2)) for lag in lags], lags)/6 for g in groups]
     d_r = [-slope([np.log(np.mean(np.sum(axis[lag:, g]*axis[:-lag, g], axis=2))) for lag in lags], lags)/2 for g in groups]
     for measured, predicted, what in ((d_t, predicted_t, 'D_t'), (d_r, predicted_r, 'D_r')):
         mean, error = np.mean(measured), np.std(measured, ddof=1)/np.sqrt(len(measured))
         assert abs(mean-predicted) < 4*error, f'{what}: {mean:.4g} +- {error:.2g} against {predicted:.4g}'
         assert 4*error < 0.05*predicted, f'{what}: standard error {error:.2g} too large to see 5%'
+
+
+def test_scene_forces_split_changes_no_energy():
+    # Sites' Lennard-Jones in a NonbondedForce and only the pairs with an ellipsoid in the
+    # GayBerneForce (ellipsoid-site pairs as exceptions with the mixed parameters) give the energy
+    # and forces of one GayBerneForce holding every particle, at the same cutoff. CPU platform: its
+    # GayBerneForce takes two spheres as Lennard-Jones exactly (Reference's evaluates the full
+    # Gay-Berne form, whose strength for unequal spheres differs from Lorentz-Berthelot's by 0.2%).
+    results = []
+    positions = None
+    for all_in_gayberne in (True, False):
+        system, lattice, _, forces = bm.pentane_box(320, 4.07, 5, bananas=2, all_in_gayberne=all_in_gayberne)
+        if not all_in_gayberne:
+            forces['lennard_jones'].setUseDispersionCorrection(False)
+            assert forces['gayberne'].getNumExceptions() == forces['lennard_jones'].getNumExceptions()
+        context = mm.Context(system, mm.VerletIntegrator(0.001), mm.Platform.getPlatformByName('CPU'))
+        context.setPositions(lattice if positions is None else positions)
+        if positions is None:
+            mm.LocalEnergyMinimizer.minimize(context, 10.0, 200)
+            positions = context.getState(getPositions=True).getPositions()
+        state = context.getState(getEnergy=True, getForces=True)
+        results.append((state.getPotentialEnergy()._value, state.getForces(asNumpy=True)._value))
+    (energy_all, forces_all), (energy_split, forces_split) = results
+    assert energy_split == pytest.approx(energy_all, rel=1e-5)
+    assert np.abs(forces_split-forces_all).max() < 1e-4*np.abs(forces_all).max()
+    # Pairs with an ellipsoid are a small part of the energy; a split that lost them would fail.
+    assert abs(energy_all) > 1000
+
+
+def lennard_jones_pair(sigma, epsilon, r):
+    return 4*epsilon*((sigma/r)**12-(sigma/r)**6)
+
+
+def test_lennard_jones_tail_against_a_direct_sum():
+    # TraPPE's treatment of the dispersion beyond the cutoff rc, with g(r) = 1 there:
+    #   U_tail = 2 pi / V sum_ab n_a n_b int_rc^inf r^2 u_ab(r) dr,
+    # and the pressure a Monte Carlo barostat feels from it (TraPPE's own volume moves, and
+    # OpenMM's barostat, take energy differences): -dU_tail/dV, which is
+    #   -2 pi / (3 V^2) sum_ab n_a n_b [int_rc^inf r^3 u_ab'(r) dr + rc^3 u_ab(rc)]
+    # (the virial's tail plus the impulse of the pairs that scaling moves across the cutoff; it
+    # equals U_tail / V, here by a separate quadrature). Checked:
+    # 1. OpenMM's dispersion correction as the model sets it up (the energy with it less without,
+    #    and that difference's change with the volume) equals both integrals over the model's site
+    #    classes;
+    # 2. the integrals equal direct sums: sites uniformly at random (an ideal gas: g(r) = 1
+    #    exactly on average), every pair between rc and R < L/2 summed, averaged over
+    #    configurations: the energy, and the energy's change when each configuration is scaled
+    #    with the box, against the same integrals from rc to R;
+    # 3. each sum resolves its integral well enough that a sign error or a missing factor of 2
+    #    would fail.
+    from scipy.integrate import quad
+    box, rc, far = 6.0, bm.CUTOFF, 2.9
+    system, _, _, forces = bm.pentane_box(300, box, 1)
+    lj = forces['lennard_jones']
+    assert lj.getUseDispersionCorrection() and not lj.getUseSwitchingFunction()
+    assert lj.getNonbondedMethod() == mm.NonbondedForce.CutoffPeriodic and lj.getCutoffDistance()._value == rc
+    n = system.getNumParticles()
+    sigma = np.array([lj.getParticleParameters(i)[1]._value for i in range(n)])
+    epsilon = np.array([lj.getParticleParameters(i)[2]._value for i in range(n)])
+    classes = {}
+    for s, e in zip(sigma, epsilon):
+        classes[(s, e)] = classes.get((s, e), 0)+1
+
+    def tail(lower, upper, volume):
+        """(energy, barostat's pressure) of the pairs between lower and upper, g(r) = 1."""
+        energy = pressure = 0.0
+        for (s1, e1), n1 in classes.items():
+            for (s2, e2), n2 in classes.items():
+                s, e = (s1+s2)/2, math.sqrt(e1*e2)
+                u = lambda r: lennard_jones_pair(s, e, r)
+                derivative = lambda r: 4*e*(-12*s**12/r**13+6*s**6/r**7)
+                energy += 2*math.pi/volume*n1*n2*quad(lambda r: r*r*u(r), lower, upper)[0]
+                ends = lower**3*u(lower)-(upper**3*u(upper) if np.isfinite(upper) else 0.0)
+                pressure += -2*math.pi/(3*volume**2)*n1*n2*(quad(lambda r: r**3*derivative(r), lower, upper)[0]+ends)
+        return energy, pressure
+
+    volume = box**3
+    expected_energy, expected_pressure = tail(rc, np.inf, volume)
+    assert expected_energy < 0 and expected_pressure < 0
+    assert expected_pressure == pytest.approx(expected_energy/volume, rel=1e-8)
+
+    # 1. OpenMM's correction, at three box edges (it does not depend on the positions: they are on
+    # a grid, so that no overlap makes the energies too large to subtract).
+    grid = np.stack(np.meshgrid(*[np.arange(12)]*3, indexing='ij'), axis=-1).reshape(-1, 3)[:n]/12
+
+    def correction(edge):
+        values = []
+        for use in (True, False):
+            lj.setUseDispersionCorrection(use)
+            system.setDefaultPeriodicBoxVectors(mm.Vec3(edge, 0, 0), mm.Vec3(0, edge, 0), mm.Vec3(0, 0, edge))
+            context = mm.Context(system, mm.VerletIntegrator(0.001), mm.Platform.getPlatformByName('Reference'))
+            context.setPositions(grid*edge)
+            values.append(context.getState(getEnergy=True).getPotentialEnergy()._value)
+        return values[0]-values[1]
+    assert correction(box) == pytest.approx(expected_energy, rel=2/n)  # OpenMM counts pairs as N(N+1)/2
+    h = 1e-4*box
+    assert -(correction(box+h)-correction(box-h))/((box+h)**3-(box-h)**3) == pytest.approx(expected_pressure, rel=2/n)
+
+    # 2. Direct sums over random configurations, pairs between rc and far, at the box and scaled by
+    # 1 -+ 1% in volume.
+    shell_energy, shell_pressure = tail(rc, far, volume)
+    rng = np.random.default_rng(11)
+    pair_sigma = (sigma[:, None]+sigma[None, :])/2
+    pair_epsilon = np.sqrt(epsilon[:, None]*epsilon[None, :])
+    upper = np.triu_indices(n, 1)
+    scales = ((1-0.01)**(1/3), (1+0.01)**(1/3))
+    sums = []
+    for _ in range(40):
+        x = rng.uniform(0, box, (n, 3))
+        d = x[:, None, :]-x[None, :, :]
+        d -= box*np.round(d/box)
+        r0 = np.sqrt((d*d).sum(axis=2))[upper]
+        s0, e0 = pair_sigma[upper], pair_epsilon[upper]
+        energies = []
+        for scale in (1.0,)+scales:
+            r = r0*scale
+            inside = (r >= rc) & (r < far)
+            energies.append(np.sum(lennard_jones_pair(s0[inside], e0[inside], r[inside])))
+        sums.append((energies[0], -(energies[2]-energies[1])/(0.02*volume)))
+    sums = np.array(sums)
+    mean, error = sums.mean(axis=0), sums.std(axis=0, ddof=1)/math.sqrt(len(sums))
+    for value, expected, err in zip(mean, (shell_energy, shell_pressure), error):
+        assert abs(value-expected) < 4*err, (value, expected, err)
+        assert 4*err < 0.25*abs(expected)  # a factor of 2 or a sign error would fail

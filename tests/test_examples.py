@@ -89,23 +89,46 @@ def test_ssd_scene_quick(tmp_path):
     assert (tmp_path/'heating.png').stat().st_size > 10000
 
 
-def test_banana_scene_short_form(tmp_path):
-    # Every stage of the banana scene, very short: the tables and the plot appear, the tensor
-    # table carries the source's numbers beside ours, and the implicit runs are far faster than
-    # the explicit one (the point of implicit solvent).
-    result = subprocess.run([sys.executable, str(ROOT/'examples'/'banana_scene.py'), '--quick', '--ps-scale', '0.2', '--out', str(tmp_path)],
-                            capture_output=True, text=True, timeout=900)
+def test_banana_scene_short_form_and_appending(tmp_path):
+    # Every stage of the banana scene, very short: the tables and plots appear, the tensor table
+    # carries the source's numbers beside ours, and the implicit runs are far faster than the
+    # explicit ones (the point of implicit solvent). Then the study in parts: one replica of each
+    # run, then one more appended, gives the tables of both run at once (replica i is seeded from i;
+    # one thread, so each run repeats bit for bit); and a folder made with other settings is
+    # refused, naming them, rather than mixed.
+    scene = [sys.executable, str(ROOT/'examples'/'banana_scene.py'), '--quick', '--ps-scale', '0.1', '--threads', '1']
+
+    def run(*extra):
+        return subprocess.run(scene+list(extra), capture_output=True, text=True, timeout=900)
+    whole, parts = tmp_path/'whole', tmp_path/'parts'
+    result = run('--out', str(whole))
     assert result.returncode == 0, result.stderr
-    for name in ('tensor.md', 'pentane.md', 'diffusion.md', 'diffusion.csv', 'correlations.csv', 'correlations.png'):
-        assert (tmp_path/name).stat().st_size > 0, name
-    assert '58.64' in (tmp_path/'tensor.md').read_text()
-    rows = {row['run']: row for row in csv.DictReader(open(tmp_path/'diffusion.csv'))}
+    for name in ('tensor.md', 'pentane.md', 'density_trace.png', 'diffusion.md', 'diffusion.csv', 'correlations.csv', 'correlations.png'):
+        assert (whole/name).stat().st_size > 0, name
+    assert '58.64' in (whole/'tensor.md').read_text()
+    rows = {row['run']: row for row in csv.DictReader(open(whole/'diffusion.csv'))}
     assert set(rows) == {'explicit', 'explicit, finite-size corrected', 'ExactFlow', 'BAOAB', 'LangevinMiddle'}
     # The Yeh-Hummer correction only adds to the periodic box's D_t.
     assert float(rows['explicit, finite-size corrected']['D_t (1e-5 cm^2/s)']) > float(rows['explicit']['D_t (1e-5 cm^2/s)'])
     for name in ('ExactFlow', 'BAOAB', 'LangevinMiddle'):
         assert float(rows[name]['ns/day']) > 5*float(rows['explicit']['ns/day'])
-        assert float(rows[name]['D_t error']) > 0
+        assert float(rows[name]['D_t error']) > 0 and rows[name]['replicas'] == '2'
+
+    result = run('--out', str(parts), '--replicas', '1')
+    assert result.returncode == 0, result.stderr
+    assert {row['replicas'] for row in csv.DictReader(open(parts/'diffusion.csv'))} == {'1'}
+    result = run('--out', str(parts), '--replicas', '1', '--stages', 'explicit,implicit', '--add', '1')
+    assert result.returncode == 0, result.stderr
+
+    def without_speed(folder):
+        return [{k: v for k, v in row.items() if k != 'ns/day'} for row in csv.DictReader(open(folder/'diffusion.csv'))]
+    assert without_speed(parts) == without_speed(whole)
+    for name in ('pentane.md', 'correlations.csv'):
+        assert (parts/name).read_text() == (whole/name).read_text(), name
+
+    result = run('--out', str(parts), '--ps-scale', '0.2')
+    assert result.returncode != 0
+    assert 'holds runs of another density stage' in result.stderr and 'density_ps' in result.stderr
 
 
 def test_protein_diffusion_example():
