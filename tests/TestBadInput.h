@@ -172,7 +172,7 @@ TEST_P(BadInputOnPlatform, Positions) {
             integrator.setParticleRadius(i, 0.1);
         Context context(system, integrator, platform, config.properties());
         context.setPositions({Vec3(0, 0, 0), Vec3(0.7, 0, 0), Vec3(1.4, 0.1, 0)});
-        expectError([&] {integrator.step(1);}, {"rigid body 0", "wider than half the periodic box"});
+        expectError([&] {integrator.step(1);}, {"rigid body 0", "longer than half the periodic box", "1.40357 nm apart"});
     }
     {
         // Positions set later must be a rigid placement of every body.

@@ -25,7 +25,8 @@ def water_simulation(model='tip3p', waters=64, rigid_water=True, constrain_bodie
     forcefield = app.ForceField(WATER_MODELS[model])
     modeller = app.Modeller(app.Topology(), [])
     modeller.addSolvent(forcefield, model=model, numAdded=waters)
-    system = forcefield.createSystem(modeller.topology, nonbondedMethod=app.PME, nonbondedCutoff=0.6*unit.nanometer, rigidWater=rigid_water)
+    system = forcefield.createSystem(modeller.topology, nonbondedMethod=app.PME, nonbondedCutoff=0.6*unit.nanometer, rigidWater=rigid_water,
+                                     removeCMMotion=False)
     integrator = rl.RigidLangevinIntegrator(300*unit.kelvin, viscosity, 2*unit.femtoseconds)
     integrator.setRandomNumberSeed(3)
     bodies = rl.addRigidBodies(integrator, modeller.topology, system, positions=modeller.positions if constrain_bodies else None)
@@ -106,7 +107,7 @@ def test_state_data_reporter_reports_rigid_body_temperature():
     simulation.reporters.append(rl.RigidBodyTemperatureReporter(temperatures, 10))
     simulation.step(6000)
     reported = np.array([float(line.split(',')[1]) for line in out.getvalue().splitlines()[1:]])
-    # 384 degrees of freedom less the centre of mass (a CMMotionRemover): fluctuations of ~7% a sample.
+    # 384 degrees of freedom: fluctuations of ~7% a sample.
     assert len(reported) == 600
     assert_bath_temperature(reported[100:], 'StateDataReporter temperature')
     rows = np.array([[float(v) for v in line.split(',')] for line in temperatures.getvalue().splitlines()[1:]])
@@ -175,7 +176,7 @@ def test_selecting_residues_and_radii():
     forcefield = app.ForceField('tip3p.xml')
     modeller = app.Modeller(app.Topology(), [])
     modeller.addSolvent(forcefield, model='tip3p', numAdded=10)
-    system = forcefield.createSystem(modeller.topology, nonbondedMethod=app.NoCutoff, rigidWater=True)
+    system = forcefield.createSystem(modeller.topology, nonbondedMethod=app.NoCutoff, rigidWater=True, removeCMMotion=False)
     integrator = rl.RigidLangevinIntegrator(300, 100, 0.002)
     first = lambda residue: residue.index < 4
     assert rl.addRigidBodies(integrator, modeller.topology, system, residues=first) == [0, 1, 2, 3]
@@ -193,7 +194,8 @@ def test_water_without_any_constraints_runs_as_bodies(model):
     # intramolecular forces cancel within each body, which keeps its shape.
     pdb = app.PDBFile(str(pathlib.Path(__file__).resolve().parents[1]/'examples'/'data'/'water256.pdb'))
     forcefield = app.ForceField(WATER_MODELS[model])
-    system = forcefield.createSystem(pdb.topology, nonbondedMethod=app.PME, nonbondedCutoff=0.9*unit.nanometer, rigidWater=False)
+    system = forcefield.createSystem(pdb.topology, nonbondedMethod=app.PME, nonbondedCutoff=0.9*unit.nanometer, rigidWater=False,
+                                     removeCMMotion=False)
     assert system.getNumConstraints() == 0
     integrator = rl.RigidLangevinIntegrator(300*unit.kelvin, 0.1*rl.poise, 2*unit.femtoseconds)
     rl.addRigidBodies(integrator, pdb.topology, system)
@@ -204,3 +206,34 @@ def test_water_without_any_constraints_runs_as_bodies(model):
     temperatures = sampled_temperatures(simulation, 200, 2000)
     assert np.abs(body_shapes(simulation)-shapes).max() < 1e-3
     assert_bath_temperature(temperatures, f'{model} without constraints')
+
+
+def test_lone_body_from_create_system_diffuses_and_a_motion_remover_is_refused():
+    # The README's protein recipe with one body: createSystem's default CMMotionRemover would hold
+    # it still (translational temperature 0 K, no diffusion); with friction it is refused, naming
+    # the fix, and with removeCMMotion=False the body's translation is the bath's.
+    pdb = app.PDBFile(io.StringIO(
+        'HETATM    1  O   HOH A   1       0.000   0.000   0.000  1.00  0.00           O\n'
+        'HETATM    2  H1  HOH A   1       0.957   0.000   0.000  1.00  0.00           H\n'
+        'HETATM    3  H2  HOH A   1      -0.240   0.927   0.000  1.00  0.00           H\n'
+        'END\n'))
+    forcefield = app.ForceField('amber14/tip3p.xml')
+    for remove in (True, False):
+        system = forcefield.createSystem(pdb.topology, nonbondedMethod=app.NoCutoff, rigidWater=False, removeCMMotion=remove)
+        integrator = rl.RigidLangevinIntegrator(300*unit.kelvin, 0.89*rl.centipoise, 2*unit.femtoseconds)
+        integrator.setRandomNumberSeed(2)
+        rl.addRigidBodies(integrator, pdb.topology, system)
+        if remove:
+            with pytest.raises(mm.OpenMMException, match=r'CMMotionRemover \(force \d\).*removeCMMotion=False'):
+                mm.Context(system, integrator, mm.Platform.getPlatformByName('Reference'))
+            continue
+        context = mm.Context(system, integrator, mm.Platform.getPlatformByName('Reference'))
+        context.setPositions(pdb.positions)
+        temperatures = []
+        for _ in range(4000):
+            integrator.step(5)
+            temperatures.append(integrator.computeTranslationalTemperature().value_in_unit(unit.kelvin))
+        # 3 degrees of freedom: each sample's temperature scatters by sqrt(2/3); friction this stiff
+        # renews the velocity within a few steps, so samples 5 steps apart are nearly independent.
+        mean, error = np.mean(temperatures), block_error(temperatures)
+        assert abs(mean-300) < WINDOW*error and WINDOW*error < 0.1*300, (mean, error)

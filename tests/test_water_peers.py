@@ -49,7 +49,8 @@ def water_box(model):
     """The model's equilibrated 2 nm box (tests/data/make_water_boxes.py) and its System."""
     pdb = app.PDBFile(str(DATA/f'water_{model}.pdb'))
     forcefield = app.ForceField(f'{model}.xml')
-    system = forcefield.createSystem(pdb.topology, nonbondedMethod=app.PME, nonbondedCutoff=0.9*unit.nanometer, rigidWater=True)
+    system = forcefield.createSystem(pdb.topology, nonbondedMethod=app.PME, nonbondedCutoff=0.9*unit.nanometer, rigidWater=True,
+                                     removeCMMotion=False)
     return pdb, system
 
 

@@ -31,7 +31,7 @@ def villin():
     pdb = app.PDBFile(VILLIN)
     modeller = app.Modeller(pdb.topology, pdb.positions)
     modeller.delete([r for r in modeller.topology.residues() if r.name.upper() in ('HOH', 'CL', 'NA')])
-    system = app.ForceField('amber14-all.xml', 'implicit/obc2.xml').createSystem(modeller.topology, nonbondedMethod=app.NoCutoff)
+    system = app.ForceField('amber14-all.xml', 'implicit/obc2.xml').createSystem(modeller.topology, nonbondedMethod=app.NoCutoff, removeCMMotion=False)
     return system, modeller.positions, [list(range(system.getNumParticles()))]
 
 

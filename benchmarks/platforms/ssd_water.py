@@ -44,7 +44,7 @@ def tip3p_box(edge):
     modeller = app.Modeller(app.Topology(), [])
     modeller.addSolvent(forcefield, boxSize=mm.Vec3(edge, edge, edge)*unit.nanometer)
     system = forcefield.createSystem(modeller.topology, nonbondedMethod=app.PME, nonbondedCutoff=0.9*unit.nanometer,
-                                     constraints=app.HBonds, rigidWater=True)
+                                     constraints=app.HBonds, rigidWater=True, removeCMMotion=False)
     n = modeller.topology.getNumResidues()
     return n, system, modeller.positions, lambda: mm.LangevinMiddleIntegrator(300*unit.kelvin, 1/unit.picosecond, 2*unit.femtoseconds)
 

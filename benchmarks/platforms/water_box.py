@@ -23,7 +23,7 @@ def build_water_box(box):
     modeller = app.Modeller(app.Topology(), [])
     modeller.addSolvent(forcefield, boxSize=mm.Vec3(box, box, box)*unit.nanometer)
     system = forcefield.createSystem(modeller.topology, nonbondedMethod=app.PME, nonbondedCutoff=0.9*unit.nanometer,
-                                     constraints=None, rigidWater=True)
+                                     constraints=None, rigidWater=True, removeCMMotion=False)
     # Make the waters exactly rigid (the pre-equilibrated box is written to 1e-4 nm), so that they
     # are all one body type, and relax the packing briefly.
     context = mm.Context(system, mm.VerletIntegrator(0.001), mm.Platform.getPlatformByName('CPU'))

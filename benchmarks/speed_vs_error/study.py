@@ -30,6 +30,12 @@ against its exact value and against 1 fs runs from the same starts.
 
 Writes results to --out (default out/speed_vs_error): results.csv, stability.csv, table.md,
 error_vs_speed_*.png, and s2_replicas.json (every S2 run's observables, which --s2-append adds to).
+
+The water System has no CMMotionRemover, which RigidLangevinIntegrator refuses with friction. The
+committed S2 replicas (made before that rule) had one: it took the 256 waters' total momentum out
+every step, slowing every run's diffusion alike by about 1/256 (0.4%, below each D's standard error
+of 0.6-1.9%); an error compares a replica with its reference from the same start under the same
+System, so the errors are unaffected, and replicas appended since are comparable with them.
 """
 import argparse
 import csv
@@ -82,7 +88,7 @@ def water_setup(waters_pdb, viscosity_poise, integrator_name, step_fs, seed, arg
     # The 64-water box of the stability study is too small for the 0.9 nm cutoff.
     switch, cutoff = (WATER_SWITCH, WATER_CUTOFF) if waters_pdb.name == 'water256.pdb' else (0.5, 0.6)
     system = forcefield.createSystem(pdb.topology, nonbondedMethod=app.PME, nonbondedCutoff=cutoff*unit.nanometer,
-                                     switchDistance=switch*unit.nanometer, rigidWater=True)
+                                     switchDistance=switch*unit.nanometer, rigidWater=True, removeCMMotion=False)
     box = pdb.topology.getPeriodicBoxVectors()
     if waters_pdb.name == 'water256.pdb':
         box = [mm.Vec3(1.97166, 0, 0), mm.Vec3(0, 1.97166, 0), mm.Vec3(0, 0, 1.97166)]*unit.nanometer

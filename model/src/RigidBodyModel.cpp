@@ -469,12 +469,39 @@ int RigidBodyModel::findOrCreateType(int body, const vector<Vec3>& offsets, cons
     return type;
 }
 
+void RigidBodyModel::checkBodiesWhole(const vector<Vec3>& positions, const Vec3* box) const {
+    // Two particles more than half a box apart as given are nearest images at another distance: a
+    // body that long would silently take another shape (a 1.2 nm dimer in a 2 nm box would become
+    // 0.8 nm long), and a body wrapped into the box particle by particle looks the same. Which one
+    // it is cannot be told, so the positions that define the shapes must have each body whole.
+    double halfWidth = 0.5*std::min(box[0][0], std::min(box[1][1], box[2][2]));
+    for (int b = 0; b < getNumBodies(); b++) {
+        BodyParticles particles = bodyParticles[b];
+        Vec3 first = positions[particles[0]];
+        for (int i = 1; i < (int) particles.size(); i++) {
+            Vec3 given = positions[particles[i]]-first, nearest = given;
+            nearest -= box[2]*std::round(nearest[2]/box[2][2]);
+            nearest -= box[1]*std::round(nearest[1]/box[1][1]);
+            nearest -= box[0]*std::round(nearest[0]/box[0][0]);
+            Vec3 shift = given-nearest;
+            if (shift.dot(shift) > 1e-12)
+                throw OpenMMException("RigidLangevinIntegrator: "+bodyName(b, numUserBodies, particles)+" is longer than half the periodic box in the "
+                        "positions first set on the Context: particles "+std::to_string(particles[0])+" and "+std::to_string(particles[i])+" are "+
+                        str(std::sqrt(given.dot(given)))+" nm apart, but half the box is "+str(halfWidth)+" nm (their nearest images are "+
+                        str(std::sqrt(nearest.dot(nearest)))+" nm apart, which would give the body another shape). Use a larger box; or, if the "
+                        "body was wrapped into the box particle by particle, set the first positions with every body whole (later ones may be wrapped)");
+        }
+    }
+}
+
 vector<BodyState> RigidBodyModel::fitStates(const vector<Vec3>& positions, const vector<Vec3>& velocities, const Vec3* box) {
     bool firstBuild = types.empty();
     for (int b = 0; b < getNumBodies(); b++)
         for (int p : bodyParticles[b])
             if (!std::isfinite(positions[p][0]) || !std::isfinite(positions[p][1]) || !std::isfinite(positions[p][2]))
                 throw OpenMMException("RigidLangevinIntegrator: particle "+std::to_string(p)+" has a position that is not finite");
+    if (firstBuild && box != NULL)
+        checkBodiesWhole(positions, box);
     vector<Vec3> exact;
     if (firstBuild && exactShapes->isNeeded()) {
         // The types' shapes obey the System's constraints and virtual sites exactly.

@@ -50,6 +50,12 @@ namespace RigidLangevinPlugin {
  * translation, within 1e-3 nm) share one set of precomputed matrices and the exact same shape.
  * Positions set later must agree with rigid placements of the bodies (within 1e-3 nm) and
  * velocities are projected onto rigid motion.
+ *
+ * A System with a CMMotionRemover is refused (OpenMMException at Context creation, or at the first
+ * step after setViscosity()) while the viscosity is not zero: the solvent's friction and noise do
+ * not conserve the total momentum, and removing it would remove real motion (a lone body would not
+ * diffuse). In openmm.app, createSystem(..., removeCMMotion=False). At zero viscosity it acts as
+ * under OpenMM's own integrators.
  */
 class OPENMM_EXPORT_RIGIDLANGEVIN RigidLangevinIntegrator : public OpenMM::Integrator {
 public:
@@ -191,8 +197,9 @@ public:
     int getNumBodyTypes() const;
     /**
      * Compute the instantaneous temperature of the system from the kinetic energy of all rigid
-     * bodies and free particles and getNumDegreesOfFreedom(). If the System has a CMMotionRemover,
-     * the kinetic energy of the centre of mass and its 3 degrees of freedom are left out.
+     * bodies and free particles and getNumDegreesOfFreedom(). If the System has a CMMotionRemover
+     * (allowed at zero viscosity only), the kinetic energy of the centre of mass and its 3 degrees
+     * of freedom are left out.
      */
     double computeSystemTemperature();
     /** Compute the temperature of the translational degrees of freedom alone (bodies and free particles). */

@@ -141,8 +141,11 @@ public:
     /**
      * Fit body states to particle positions and velocities. The first call defines the body types
      * from these positions, made exact first where the System's constraints or virtual sites fix
-     * them (ExactBodyShapes); later calls fit each body to its type and throw if the positions
-     * deform it. Velocities are projected onto rigid motion (momentum and angular momentum kept).
+     * them (ExactBodyShapes), and throws if a body is not whole in them (two of its particles more
+     * than half a periodic box apart); later calls fit each body to its type, taking particles at
+     * their nearest images (a body wrapped into the box comes back whole), and throw if the
+     * positions deform it. Velocities are projected onto rigid motion (momentum and angular
+     * momentum kept).
      *
      * @param positions   particle positions
      * @param velocities  particle velocities
@@ -201,6 +204,8 @@ private:
     int createType(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, double rotation[3][3]);
     Matrix6 bodyFrameResistance(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, const double rotation[3][3]) const;
     std::vector<OpenMM::Vec3> unwrappedOffsets(int body, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, OpenMM::Vec3& centre) const;
+    /** Throw if, in the positions that define the shapes, any body's particles lie more than half a box apart. */
+    void checkBodiesWhole(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box) const;
     int numUserBodies;
     BodyParticleLists bodyParticles;
     std::vector<int> particleBody;

@@ -19,7 +19,7 @@ const int CheckpointVersion = 3;  // 3: the common platforms' random numbers are
 } // namespace
 
 RigidLangevinStepKernelBase::RigidLangevinStepKernelBase(std::string name, const Platform& platform) :
-        IntegrateRigidLangevinStepKernel(name, platform), removerFrequency(0), bodiesInitialized(false), particlesChanged(true),
+        IntegrateRigidLangevinStepKernel(name, platform), removerFrequency(0), removerIndex(-1), bodiesInitialized(false), particlesChanged(true),
         ignoreStateChanges(false), positionsSet(false) {
     for (double& p : coefficientParameters)
         p = std::numeric_limits<double>::quiet_NaN();
@@ -56,9 +56,23 @@ void RigidLangevinStepKernelBase::initialize(const System& system, const RigidLa
     model.reset(new RigidBodyModel(system, describeBodies(integrator)));
     for (int i = 0; i < system.getNumForces(); i++) {
         const CMMotionRemover* remover = dynamic_cast<const CMMotionRemover*>(&system.getForce(i));
-        if (remover != NULL)
+        if (remover != NULL) {
             removerFrequency = remover->getFrequency();
+            removerIndex = i;
+        }
     }
+    checkMotionRemover(integrator.getViscosity());
+}
+
+void RigidLangevinStepKernelBase::checkMotionRemover(double viscosity) const {
+    // The solvent's friction and noise do not conserve the total momentum: removing it removes
+    // real motion (a lone body would not diffuse at all; N bodies diffuse 1/N too slowly) and
+    // three degrees of freedom. Without friction (NVE) the remover does what it does elsewhere.
+    if (removerFrequency > 0 && viscosity != 0)
+        throw OpenMMException("RigidLangevinIntegrator: the System has a CMMotionRemover (force "+std::to_string(removerIndex)+
+                ") and the viscosity is not zero. The solvent's friction does not conserve the total momentum, so removing it would "
+                "remove real motion: a lone body would not diffuse at all. Leave the remover out: createSystem(..., removeCMMotion=False) "
+                "in openmm.app, or System.removeForce("+std::to_string(removerIndex)+"). (At zero viscosity a CMMotionRemover is allowed.)");
 }
 
 bool RigidLangevinStepKernelBase::kineticEnergyRequiresForce(const RigidLangevinIntegrator& integrator) const {
@@ -108,6 +122,7 @@ void RigidLangevinStepKernelBase::updateCoefficients(ContextImpl& context, const
         changed |= (parameters[i] != coefficientParameters[i]);
     if (!changed)
         return;
+    checkMotionRemover(parameters[1]);
     vector<TypeStepCoefficients> newCoefficients = computeStepCoefficients(*model, stepScheme(integrator), parameters[0], parameters[1], parameters[2]);
     if (integrator.getScheme() == RigidLangevinIntegrator::Original)
         checkOriginalSchemeStability(*model, newCoefficients, parameters[2]);

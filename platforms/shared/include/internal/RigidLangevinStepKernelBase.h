@@ -58,9 +58,11 @@ protected:
     void updateBodies(OpenMM::ContextImpl& context);
     std::unique_ptr<RigidBodyModel> model;
     std::vector<TypeStepCoefficients> coefficients;
-    int removerFrequency;
+    int removerFrequency, removerIndex;
 private:
     void updateCoefficients(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator);
+    /** Refuse a CMMotionRemover at a nonzero viscosity (with an OpenMMException that says why and how to leave it out). */
+    void checkMotionRemover(double viscosity) const;
     /** Set up the kernel's storage for types just restored into the model, then place the bodies from states. */
     void installRestoredBodies(OpenMM::ContextImpl& context, const std::vector<BodyState>& states);
     double coefficientParameters[4];
