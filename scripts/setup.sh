@@ -21,7 +21,7 @@ step() { current_step="$1"; echo "==> $1"; }
 # 1. System packages (Debian). Only the missing ones are installed. qemu-user runs the host code's
 # baseline (non-AVX2) builds under emulation for TestCpuHostClonesBaseline and
 # TestCpuStickyDipoleForceBaseline.
-APT_PACKAGES=(build-essential cmake ninja-build libeigen3-dev libgtest-dev librandom123-dev
+APT_PACKAGES=(build-essential cmake ninja-build libeigen3-dev zlib1g-dev libgtest-dev librandom123-dev
               ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
               libopenmpi-dev openmpi-bin qemu-user)
 step "checking Debian packages"

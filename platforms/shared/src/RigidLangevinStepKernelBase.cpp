@@ -1,4 +1,5 @@
 #include "internal/RigidLangevinStepKernelBase.h"
+#include "internal/CheckpointSection.h"
 #include "openmm/CMMotionRemover.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/ContextImpl.h"
@@ -6,17 +7,11 @@
 #include <istream>
 #include <limits>
 #include <ostream>
+#include <sstream>
 
 using namespace RigidLangevinPlugin;
 using namespace OpenMM;
 using std::vector;
-
-namespace {
-
-/** 2: body types carry their virtual-site flags. */
-const int CheckpointVersion = 3;  // 3: the common platforms' random numbers are the integrator's (seed and step)
-
-} // namespace
 
 RigidLangevinStepKernelBase::RigidLangevinStepKernelBase(std::string name, const Platform& platform) :
         IntegrateRigidLangevinStepKernel(name, platform), removerFrequency(0), removerIndex(-1), bodiesInitialized(false), particlesChanged(true),
@@ -194,30 +189,36 @@ void RigidLangevinStepKernelBase::installRestoredBodies(ContextImpl& context, co
     positionsSet = true;
 }
 
+// Checkpoint formats (CheckpointSection frames them): 2, body types carry their virtual-site flags;
+// 3, the common platforms' random numbers are the integrator's (seed and step); 4, the same payload
+// framed with a length and a CRC-32.
+
 void RigidLangevinStepKernelBase::createCheckpoint(ContextImpl& context, std::ostream& stream) {
     vector<BodyState> states;
     getBodyStates(context, states);
-    stream.write((char*) &CheckpointVersion, sizeof(int));
-    model->writeTypes(stream);
+    std::ostringstream payload;
+    model->writeTypes(payload);
     int numBodies = states.size();
-    stream.write((char*) &numBodies, sizeof(int));
-    stream.write((char*) states.data(), numBodies*sizeof(BodyState));
-    createRandomCheckpoint(stream);
+    payload.write((char*) &numBodies, sizeof(int));
+    payload.write((char*) states.data(), numBodies*sizeof(BodyState));
+    createRandomCheckpoint(payload);
+    CheckpointSection::write(stream, payload.str());
 }
 
 void RigidLangevinStepKernelBase::loadCheckpoint(ContextImpl& context, std::istream& stream) {
-    int version, numBodies;
-    stream.read((char*) &version, sizeof(int));
-    if (!stream || version != CheckpointVersion)
-        throw OpenMMException("RigidLangevinIntegrator: the checkpoint was written by an incompatible version of the plugin");
-    model->readTypes(stream);
-    stream.read((char*) &numBodies, sizeof(int));
-    if (!stream || numBodies != model->getNumBodies())
+    int version;
+    std::istringstream framed(CheckpointSection::read(stream, version));
+    // Format 3 has no frame: its payload is read from the checkpoint itself.
+    std::istream& in = (version == CheckpointSection::UnframedVersion ? stream : framed);
+    model->readTypes(in);
+    int numBodies;
+    in.read((char*) &numBodies, sizeof(int));
+    if (!in || numBodies != model->getNumBodies())
         throw OpenMMException("RigidLangevinIntegrator: the checkpoint's rigid bodies do not match this System's");
     vector<BodyState> states(numBodies);
-    stream.read((char*) states.data(), numBodies*sizeof(BodyState));
-    loadRandomCheckpoint(stream);
-    if (!stream)
+    in.read((char*) states.data(), numBodies*sizeof(BodyState));
+    loadRandomCheckpoint(in);
+    if (!in)
         throw OpenMMException("RigidLangevinIntegrator: the checkpoint is truncated (it ends inside the body states or the random number generator)");
     installRestoredBodies(context, states);
     ignoreStateChanges = true;
