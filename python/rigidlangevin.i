@@ -79,6 +79,12 @@ namespace std {
     %template(vectord) vector<double>;
 }
 
+/* Every class's and method's docstring is its header's documentation (python/doxygen_docs.py). */
+%include "docstrings.i"
+/* What the Python module adds. */
+%feature("docstring") RigidLangevinPlugin::RigidLangevinIntegrator::isinstance "Whether an openmm.Integrator is a RigidLangevinIntegrator (then cast() gives it as one).";
+%feature("docstring") RigidLangevinPlugin::StickyDipoleForce::isinstance "Whether an openmm.Force is a StickyDipoleForce (then cast() gives it as one).";
+
 namespace RigidLangevinPlugin {
 
 class ResistanceTensor;

@@ -20,9 +20,10 @@ step() { current_step="$1"; echo "==> $1"; }
 
 # 1. System packages (Debian). Only the missing ones are installed. qemu-user runs the host code's
 # baseline (non-AVX2) builds under emulation for TestCpuHostClonesBaseline and
-# TestCpuStickyDipoleForceBaseline.
+# TestCpuStickyDipoleForceBaseline; doxygen reads the headers' documentation for the Python
+# docstrings and docs/api.md (tests/test_api_reference.py).
 APT_PACKAGES=(build-essential cmake ninja-build libeigen3-dev zlib1g-dev libgtest-dev librandom123-dev
-              ocl-icd-opencl-dev opencl-headers pocl-opencl-icd
+              ocl-icd-opencl-dev opencl-headers pocl-opencl-icd doxygen
               libopenmpi-dev openmpi-bin qemu-user)
 step "checking Debian packages"
 missing=()

@@ -30,7 +30,7 @@ public:
      * symmetric and positive definite.
      */
     static ResistanceTensor fromMatrix(const std::vector<double>& matrix, const OpenMM::Vec3& origin);
-    /** A sphere of the given radius with stick boundary conditions (Stokes: 6 pi R, 8 pi R^3). */
+    /** A sphere of the given radius (nm) centred at center (nm), with stick boundary conditions (Stokes: 6 pi R, 8 pi R^3). */
     static ResistanceTensor sphere(double radius, const OpenMM::Vec3& center = OpenMM::Vec3());
     /**
      * A triaxial ellipsoid with semi-axes a, b, c (nm) along x, y, z, centred at center, with stick
@@ -45,7 +45,8 @@ public:
      */
     static ResistanceTensor spheroid(double a, double b, const OpenMM::Vec3& center = OpenMM::Vec3());
     /**
-     * A rigid assembly of spherical beads with hydrodynamic interaction: the generalised
+     * A rigid assembly of spherical beads (centres positions and radii radii, in nm) with
+     * hydrodynamic interaction: the generalised
      * Rotne-Prager-Yamakawa mobility of Zuk et al. (J. Fluid Mech. 741, R5 (2014)), which holds for
      * beads of different sizes, overlapping and nested ones included, with self mobility
      * 1/(6 pi r_i). The 3N x 3N mobility matrix is Cholesky-factorised, not inverted, on all cores
@@ -79,7 +80,7 @@ public:
     static double unionVolume(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii);
     /**
      * A rough shell model of a molecule: the surface of the union of its atoms' spheres (centres
-     * positions, radii radii) tiled with beads of radius beadRadius whose centres lie on that
+     * positions, radii radii, in nm) tiled with beads of radius beadRadius (nm) whose centres lie on that
      * surface, about 3 beadRadius apart (see roughShellBeads()), solved as in beads() without
      * volume correction. The result is that of a finite bead size, larger than the molecule's own
      * by a relative amount of order beadRadius/size; shellExtrapolated() removes that. Its origin

@@ -100,10 +100,16 @@ public:
      * @return the index of the site
      */
     int addSite(int particle, int reference1, int reference2, const SiteParameters& parameters);
+    /** Get the number of sites that have been added. */
     int getNumSites() const {
         return sites.size();
     }
+    /** Get a site's particle, the two reference particles of its frame and its parameters. */
     void getSiteParameters(int index, int& particle, int& reference1, int& reference2, SiteParameters& parameters) const;
+    /**
+     * Replace a site's particle, frame and parameters. A Context made before sees the change only
+     * after Context.reinitialize().
+     */
     void setSiteParameters(int index, int particle, int reference1, int reference2, const SiteParameters& parameters);
     /**
      * Exclude the interaction between two sites (indices of sites, not particles). On the OpenCL and
@@ -112,34 +118,43 @@ public:
      * uses any: OpenMM's rule for that kernel, which says so when it is broken.
      */
     int addExclusion(int site1, int site2);
+    /** Get the number of exclusions that have been added. */
     int getNumExclusions() const {
         return exclusions.size();
     }
+    /** Get the two sites (indices of sites, not particles) of an exclusion. */
     void getExclusionSites(int index, int& site1, int& site2) const;
-
+    /** Get how pairs are cut off and whether the box is periodic (NoCutoff, CutoffNonPeriodic or CutoffPeriodic). */
     NonbondedMethod getNonbondedMethod() const {
         return method;
     }
+    /** Set how pairs are cut off and whether the box is periodic (NoCutoff, CutoffNonPeriodic or CutoffPeriodic). */
     void setNonbondedMethod(NonbondedMethod method);
     /** The cutoff distance (nm), used by the cutoff methods. */
     double getCutoffDistance() const {
         return cutoff;
     }
+    /** Set the cutoff distance (nm), used by the cutoff methods. */
     void setCutoffDistance(double distance);
     /** Whether pair energies are switched smoothly to zero between the switching distance and the cutoff. */
     bool getUseSwitchingFunction() const {
         return useSwitching;
     }
+    /** Set whether pair energies are switched smoothly to zero between the switching distance and the cutoff. */
     void setUseSwitchingFunction(bool use);
+    /** The distance (nm) at which the switch begins; less than the cutoff. */
     double getSwitchingDistance() const {
         return switchingDistance;
     }
+    /** Set the distance (nm) at which the switch begins; less than the cutoff. */
     void setSwitchingDistance(double distance);
     /** The dielectric constant of the continuum beyond the cutoff (default 80; 1 gives no reaction field). */
     double getReactionFieldDielectric() const {
         return reactionFieldDielectric;
     }
+    /** Set the dielectric constant of the continuum beyond the cutoff (1 gives no reaction field). */
     void setReactionFieldDielectric(double dielectric);
+    /** Whether the force uses periodic boundary conditions (the CutoffPeriodic method). */
     bool usesPeriodicBoundaryConditions() const {
         return method == CutoffPeriodic;
     }

@@ -18,6 +18,8 @@ sequence or a Quantity.
     xi = hydro.spheroidShellExtrapolated(centers, axes, a, b)          # a union of spheroids (Gay-Berne bodies)
     xi = hydro.protein(topology, positions)                           # HYDROPRO's atomic-level model of a protein
 """
+import inspect
+
 import numpy as np
 import openmm as mm
 import openmm.unit as unit
@@ -52,50 +54,64 @@ def _point(point):
     return mm.Vec3(*(_length(c) for c in (point.value_in_unit(unit.nanometer) if unit.is_quantity(point) else point)))
 
 
+def _as(function, python):
+    """Give a function the documentation of the C++ function it wraps (the header's), and say how
+    its Python arguments may be given."""
+    def document(wrapper):
+        wrapper.__doc__ = inspect.cleandoc(function.__doc__ or '')+'\n\nIn Python: '+python
+        return wrapper
+    return document
+
+
+_LENGTHS = 'lengths in nm, or Quantities.'
+_POSITIONS = 'positions an (N, 3) array, a list of Vec3 or a Quantity (nm); radii a sequence or a Quantity (nm).'
+_SPHEROIDS = ('centers and axes (N, 3) arrays, lists of Vec3 or Quantities (nm); a and b sequences of N values, or single values '
+              'shared by all, in nm or Quantities.')
+
+
+@_as(ResistanceTensor.sphere, _LENGTHS)
 def sphere(radius, center=(0, 0, 0)):
-    """A sphere with stick boundary conditions: 6 pi R and 8 pi R^3."""
     return ResistanceTensor.sphere(_length(radius), _point(center))
 
 
+@_as(ResistanceTensor.ellipsoid, _LENGTHS)
 def ellipsoid(a, b, c, center=(0, 0, 0)):
-    """A triaxial ellipsoid with semi-axes a, b, c along x, y, z (Perrin's friction, Carlson's integrals)."""
     return ResistanceTensor.ellipsoid(_length(a), _length(b), _length(c), _point(center))
 
 
+@_as(ResistanceTensor.spheroid, _LENGTHS)
 def spheroid(a, b, center=(0, 0, 0)):
-    """A prolate (a > b) or oblate (a < b) spheroid with its symmetry axis a along x (closed forms)."""
     return ResistanceTensor.spheroid(_length(a), _length(b), _point(center))
 
 
+@_as(ResistanceTensor.beads, _POSITIONS+' correctionVolume in nm^3 or a Quantity.')
 def beads(positions, radii, correctionVolume=0.0):
-    """A rigid bead model with generalised Rotne-Prager-Yamakawa hydrodynamic interaction (overlapping
-    and nested beads included) and the volume correction +6 V on the rotational block."""
     v = correctionVolume.value_in_unit(unit.nanometer**3) if unit.is_quantity(correctionVolume) else float(correctionVolume)
     return ResistanceTensor.beads(_vectors(positions), _lengths(radii), v)
 
 
+@_as(ResistanceTensor.beadVolume, 'radii a sequence or a Quantity (nm); the volume is in nm^3.')
 def beadVolume(radii):
-    """The sum of the beads' volumes (nm^3): the correction volume of non-overlapping filling beads."""
     return ResistanceTensor.beadVolume(_lengths(radii))
 
 
+@_as(ResistanceTensor.unionVolume, _POSITIONS+' The volume is in nm^3.')
 def unionVolume(positions, radii):
-    """The volume of the union of the spheres (nm^3): the correction volume of overlapping filling beads."""
     return ResistanceTensor.unionVolume(_vectors(positions), _lengths(radii))
 
 
+@_as(ResistanceTensor.roughShell, _POSITIONS+' beadRadius in nm or a Quantity.')
 def roughShell(positions, radii, beadRadius):
-    """A rough shell model: the surface of the union of the atoms' spheres tiled with small beads."""
     return ResistanceTensor.roughShell(_vectors(positions), _lengths(radii), _length(beadRadius))
 
 
+@_as(ResistanceTensor.roughShellBeads, _POSITIONS+' Returns an (N, 3) Quantity in nm.')
 def roughShellBeads(positions, radii, beadRadius):
-    """The bead centres of roughShell(), as an (N, 3) Quantity in nm."""
     return ResistanceTensor.roughShellBeads(_vectors(positions), _lengths(radii), _length(beadRadius))
 
 
+@_as(ResistanceTensor.shellExtrapolated, _POSITIONS)
 def shellExtrapolated(positions, radii, maxBeads=2000, numResolutions=6):
-    """Rough shells at several resolutions extrapolated to zero bead size, as HYDRO++ does."""
     return ResistanceTensor.shellExtrapolated(_vectors(positions), _lengths(radii), int(maxBeads), int(numResolutions))
 
 
@@ -109,29 +125,28 @@ def _spheroids(centers, axes, a, b):
     return centers, _vectors(axes), per_spheroid(a), per_spheroid(b)
 
 
+@_as(ResistanceTensor.spheroidRoughShell, _SPHEROIDS+' beadRadius in nm or a Quantity.')
 def spheroidRoughShell(centers, axes, a, b, beadRadius):
-    """A rough shell model of a union of spheroids: spheroid i at centers[i] with semi-axis a[i] along
-    axes[i] and b[i] across it (a and b may be single values shared by all)."""
     return ResistanceTensor.spheroidRoughShell(*_spheroids(centers, axes, a, b), _length(beadRadius))
 
 
+@_as(ResistanceTensor.spheroidRoughShellBeads, _SPHEROIDS+' Returns an (N, 3) Quantity in nm.')
 def spheroidRoughShellBeads(centers, axes, a, b, beadRadius):
-    """The bead centres of spheroidRoughShell(), as an (N, 3) Quantity in nm."""
     return ResistanceTensor.spheroidRoughShellBeads(*_spheroids(centers, axes, a, b), _length(beadRadius))
 
 
+@_as(ResistanceTensor.spheroidShellExtrapolated, _SPHEROIDS)
 def spheroidShellExtrapolated(centers, axes, a, b, maxBeads=2000, numResolutions=6):
-    """Rough shells of a union of spheroids at several resolutions extrapolated to zero bead size."""
     return ResistanceTensor.spheroidShellExtrapolated(*_spheroids(centers, axes, a, b), int(maxBeads), int(numResolutions))
 
 
+@_as(ResistanceTensor.freeDrainingBeads, _POSITIONS)
 def freeDrainingBeads(positions, radii):
-    """Beads with Stokes friction each and no hydrodynamic interaction between them."""
     return ResistanceTensor.freeDrainingBeads(_vectors(positions), _lengths(radii))
 
 
+@_as(ResistanceTensor.explicit, 'matrix a 6x6 array (blocks per unit viscosity in nm, nm^2, nm^3); origin in nm or a Quantity.')
 def explicit(matrix, origin=(0, 0, 0)):
-    """A tensor from its 6x6 matrix (per unit viscosity) about the point origin."""
     return ResistanceTensor.explicit(matrix, _point(origin))
 
 
