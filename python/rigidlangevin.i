@@ -113,6 +113,9 @@ class ResistanceTensor;
 %pythonappend RigidLangevinIntegrator::getParticleRadius %{
     val = None if val < 0 else unit.Quantity(val, unit.nanometer)
 %}
+%pythonappend RigidLangevinIntegrator::getRigidBodyCoordinates %{
+    val = _units.vectors_in_nm(val)
+%}
 %pythonappend RigidLangevinIntegrator::computeSystemTemperature %{
     val = unit.Quantity(val, unit.kelvin)
 %}
@@ -151,6 +154,7 @@ public:
     void setParticleRadius(int particle, double radius);
     double getParticleRadius(int particle) const;
     int getNumDegreesOfFreedom() const;
+    std::vector<Vec3> getRigidBodyCoordinates(int index) const;
     int getNumBodyTypes() const;
     double computeSystemTemperature();
     double computeTranslationalTemperature();
@@ -173,6 +177,27 @@ public:
                 PyList_SET_ITEM(positions, i, Py_BuildValue("(ddd)", reference[i][0], reference[i][1], reference[i][2]));
             return Py_BuildValue("(N(ddd)N)", values, origin[0], origin[1], origin[2], positions);
         }
+        /* getRigidBodyStates() as four flat lists (3, 9, 3 and 3 values per body). */
+        PyObject* _getRigidBodyStates() const {
+            std::vector<Vec3> centers, velocities, angular;
+            std::vector<double> orientations;
+            self->getRigidBodyStates(centers, orientations, velocities, angular);
+            PyObject* lists[4];
+            const std::vector<Vec3>* vectors[4] = {&centers, NULL, &velocities, &angular};
+            for (int k = 0; k < 4; k++) {
+                if (k == 1) {
+                    lists[k] = PyList_New(orientations.size());
+                    for (int i = 0; i < (int) orientations.size(); i++)
+                        PyList_SET_ITEM(lists[k], i, PyFloat_FromDouble(orientations[i]));
+                    continue;
+                }
+                lists[k] = PyList_New(3*vectors[k]->size());
+                for (int i = 0; i < (int) vectors[k]->size(); i++)
+                    for (int j = 0; j < 3; j++)
+                        PyList_SET_ITEM(lists[k], 3*i+j, PyFloat_FromDouble((*vectors[k])[i][j]));
+            }
+            return Py_BuildValue("(NNNN)", lists[0], lists[1], lists[2], lists[3]);
+        }
         RigidLangevinPlugin::RigidLangevinIntegrator* _clone() const {
             return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(OpenMM::XmlSerializer::clone<OpenMM::Integrator>(*self));
         }
@@ -190,6 +215,13 @@ public:
             return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(&integrator) != NULL;
         }
         %pythoncode %{
+            def getRigidBodyStates(self):
+                """The state of every rigid body (see the C++ getRigidBodyStates()): a RigidBodyStates with centers
+                (N, 3) Quantity in nm, orientations (N, 3, 3) array A (columns the principal axes in the lab frame;
+                a particle at body-frame coordinates b, getRigidBodyCoordinates(i), is at center + A b), velocities
+                (N, 3) Quantity in nm/ps and angularVelocities (N, 3) Quantity in radians/ps (lab frame)."""
+                return _units.rigid_body_states(self._getRigidBodyStates())
+
             def getBodyResistance(self, index):
                 """The explicit resistance tensor of a body, as (6x6 numpy array, origin Vec3 in nm, the reference
                 positions of the body's particles it belongs to as an (N, 3) array in nm), or None."""

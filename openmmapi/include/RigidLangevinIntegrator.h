@@ -190,6 +190,29 @@ public:
      */
     int getNumDegreesOfFreedom() const;
     /**
+     * Get the state of every rigid body added with addRigidBody(), in that order. Needs a Context
+     * with positions. The velocities are those a State reports for the body's particles (with
+     * friction, the ones whose distribution is exactly Maxwell's; without, half a kick behind the
+     * positions, as velocity Verlet stores them): a particle at body-frame coordinates b (see
+     * getRigidBodyCoordinates()) is at center + A b and moves at velocity + angularVelocity x A b.
+     *
+     * @param[out] centers            each body's centre of mass (nm)
+     * @param[out] orientations       9 values per body, row-major: the rotation A (body frame to
+     *                                lab) whose columns are the body's principal axes of inertia in
+     *                                the lab frame, in the order of getRigidBodyCoordinates()
+     * @param[out] velocities         each body's centre-of-mass velocity (nm/ps)
+     * @param[out] angularVelocities  each body's angular velocity in the lab frame (radians/ps); a
+     *                                linear body never turns about its own axis
+     */
+    void getRigidBodyStates(std::vector<OpenMM::Vec3>& centers, std::vector<double>& orientations, std::vector<OpenMM::Vec3>& velocities,
+                            std::vector<OpenMM::Vec3>& angularVelocities) const;
+    /**
+     * Get the coordinates (nm) of a rigid body's particles in its own frame: relative to its centre
+     * of mass, along its principal axes (the columns of its orientation in getRigidBodyStates()),
+     * in the order given to addRigidBody(). Fixed for the life of a Context; needs one with positions.
+     */
+    std::vector<OpenMM::Vec3> getRigidBodyCoordinates(int index) const;
+    /**
      * Get the number of body types: bodies with the same masses, radii, friction model and shape
      * (up to a rotation, within 1e-3 nm) share one, and with it every precomputed matrix and one
      * hydrodynamic calculation. Free particles count too. Needs a Context with positions.

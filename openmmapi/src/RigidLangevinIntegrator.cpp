@@ -286,6 +286,47 @@ vector<Vec3> RigidLangevinIntegrator::getVelocitiesForTemperature(const System& 
     return velocities;
 }
 
+void RigidLangevinIntegrator::getRigidBodyStates(vector<Vec3>& centers, vector<double>& orientations, vector<Vec3>& velocities,
+                                                 vector<Vec3>& angularVelocities) const {
+    if (context == NULL)
+        throw OpenMMException("RigidLangevinIntegrator::getRigidBodyStates: this Integrator is not bound to a context");
+    IntegrateRigidLangevinStepKernel& k = kernel.getAs<IntegrateRigidLangevinStepKernel>();
+    const RigidBodyModel& model = k.getModel(*context);
+    vector<BodyState> states;
+    k.getBodyStates(*context, states);
+    int numBodies = getNumRigidBodies();
+    centers.resize(numBodies);
+    orientations.resize(9*numBodies);
+    velocities.resize(numBodies);
+    angularVelocities.resize(numBodies);
+    for (int b = 0; b < numBodies; b++) {
+        const BodyState& s = states[b];
+        const BodyType& type = model.getType(model.getBodyType(b));
+        centers[b] = s.position;
+        velocities[b] = s.velocity;
+        // Q (lab to body) has the principal axes as rows; A = Q^T. omega_lab = Q^T (j_k / I_k).
+        Vec3 omega;
+        for (int axis = 0; axis < 3; axis++) {
+            double rate = (type.rotates(axis) ? s.angularMomentum[axis]/type.inertia[axis] : 0.0);
+            for (int i = 0; i < 3; i++) {
+                omega[i] += s.rotation[axis][i]*rate;
+                orientations[9*b+3*i+axis] = s.rotation[axis][i];
+            }
+        }
+        angularVelocities[b] = omega;
+    }
+}
+
+vector<Vec3> RigidLangevinIntegrator::getRigidBodyCoordinates(int index) const {
+    if (context == NULL)
+        throw OpenMMException("RigidLangevinIntegrator::getRigidBodyCoordinates: this Integrator is not bound to a context");
+    if (index < 0 || index >= getNumRigidBodies())
+        throw OpenMMException("RigidLangevinIntegrator::getRigidBodyCoordinates: there is no rigid body "+std::to_string(index)+" (the integrator has "+
+                              std::to_string(getNumRigidBodies())+")");
+    const RigidBodyModel& model = kernel.getAs<IntegrateRigidLangevinStepKernel>().getModel(*context);
+    return model.getType(model.getBodyType(index)).coords;
+}
+
 void RigidLangevinIntegrator::createCheckpoint(std::ostream& stream) const {
     kernel.getAs<IntegrateRigidLangevinStepKernel>().createCheckpoint(*context, stream);
 }

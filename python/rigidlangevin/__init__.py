@@ -20,10 +20,10 @@ from .core import RigidLangevinIntegrator, ResistanceTensor, StickyDipoleForce
 from ._units import poise, centipoise, md_viscosity
 from .topology import addRigidBodies
 from .internal import removeInternalInteractions
-from .reporters import RigidBodyTemperatureReporter
+from .reporters import RigidBodyStateReporter, RigidBodyTemperatureReporter
 from . import hydrodynamics
 from . import ssd
 from . import forcefield as _forcefield  # registers <StickyDipoleForce> with openmm.app.ForceField
 
 __all__ = ['RigidLangevinIntegrator', 'ResistanceTensor', 'StickyDipoleForce', 'poise', 'centipoise', 'md_viscosity', 'addRigidBodies', 'removeInternalInteractions',
-           'RigidBodyTemperatureReporter', 'hydrodynamics', 'ssd']
+           'RigidBodyTemperatureReporter', 'RigidBodyStateReporter', 'hydrodynamics', 'ssd']

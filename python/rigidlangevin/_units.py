@@ -1,4 +1,6 @@
 """Unit handling of the Python wrapper: viscosities, tensors and rotations given as Quantities or arrays."""
+import collections
+
 import numpy as np
 import openmm.unit as unit
 
@@ -92,3 +94,16 @@ def sticky_dipole_values(model, parameters):
             value = parameters[name]
             values[i] = float(value.value_in_unit(u) if unit.is_quantity(value) else value)
     return values
+
+
+RigidBodyStates = collections.namedtuple('RigidBodyStates', 'centers orientations velocities angularVelocities')
+RigidBodyStates.__doc__ = """Every rigid body's centre of mass (nm), orientation (3x3 rotations, body frame to lab), velocity
+(nm/ps) and angular velocity (radians/ps, lab frame), as RigidLangevinIntegrator.getRigidBodyStates() returns them."""
+
+
+def rigid_body_states(lists):
+    """RigidBodyStates from the four flat lists of RigidLangevinIntegrator._getRigidBodyStates()."""
+    centers, orientations, velocities, angular = (np.array(values, dtype=float) for values in lists)
+    return RigidBodyStates(unit.Quantity(centers.reshape(-1, 3), unit.nanometer), orientations.reshape(-1, 3, 3),
+                           unit.Quantity(velocities.reshape(-1, 3), unit.nanometer/unit.picosecond),
+                           unit.Quantity(angular.reshape(-1, 3), unit.radian/unit.picosecond))
