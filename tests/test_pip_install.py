@@ -36,6 +36,16 @@ for name in ("Reference", "CPU"):
 '''
 
 
+CMAKE_PROJECT = """cmake_minimum_required(VERSION 3.18)
+project(UsesRigidLangevin CXX)
+find_package(RigidLangevin 0.1 REQUIRED)
+add_executable(quickstart {examples}/QuickStart.cpp)
+target_link_libraries(quickstart RigidLangevin::Reference)
+add_executable(hydrodynamics {examples}/Hydrodynamics.cpp)
+target_link_libraries(hydrodynamics RigidLangevin::Hydrodynamics)
+"""
+
+
 def run(command, **kwargs):
     result = subprocess.run([str(c) for c in command], capture_output=True, text=True, **kwargs)
     assert result.returncode == 0, f'{command} failed:\n{result.stdout[-3000:]}\n{result.stderr[-3000:]}'
@@ -66,21 +76,29 @@ def test_pip_install_into_a_fresh_environment(tmp_path):
     assert {'libRigidLangevin.so', 'libRigidLangevinHydrodynamics.so'} <= {library.name for library in libraries}, libraries
     assert (openmm_dir/'include'/'rigidlangevin'/'RigidLangevinIntegrator.h').exists()
 
-    # The installed C++ headers are the public API alone, and enough: the README's C++ quick start
-    # compiles against them with OpenMM's (no Eigen, no internal headers) and runs.
+    # The installed C++ headers are the public API alone (every public header, the kernel interfaces
+    # not), and enough: the README's C++ quick start compiles against them with OpenMM's (no Eigen,
+    # no internal headers) and runs, built from another directory with the flags
+    # `python -m rigidlangevin` prints, and with CMake's find_package(RigidLangevin).
     headers = sorted(str(h.relative_to(openmm_dir/'include'/'rigidlangevin')) for h in (openmm_dir/'include'/'rigidlangevin').rglob('*.h'))
-    assert headers == ['ResistanceTensor.h', 'RigidLangevinIntegrator.h', 'internal/windowsExportHydrodynamics.h',
+    assert headers == ['ResistanceTensor.h', 'RigidLangevinIntegrator.h', 'StickyDipoleForce.h', 'internal/windowsExportHydrodynamics.h',
                        'internal/windowsExportRigidLangevin.h'], headers
+    flags = lambda *which: run([python, '-m', 'rigidlangevin', *which], cwd=elsewhere).split()
+    assert pathlib.Path(run([python, '-m', 'rigidlangevin', '--prefix'], cwd=elsewhere).strip()) == openmm_dir
     quickstart = tmp_path/'quickstart'
-    run(['g++', '-std=c++17', f'-I{openmm_dir}/include/rigidlangevin', f'-I{openmm_dir}/include', ROOT/'examples'/'cpp'/'QuickStart.cpp',
-         f'-L{openmm_dir}/lib', f'-L{openmm_dir}/lib/plugins', '-lRigidLangevin', '-lRigidLangevinReference', '-lOpenMM',
-         f'-Wl,-rpath,{openmm_dir}/lib', f'-Wl,-rpath,{openmm_dir}/lib/plugins', '-o', quickstart])
-    run([quickstart], cwd=elsewhere)
+    run(['g++', ROOT/'examples'/'cpp'/'QuickStart.cpp', *flags('--cflags', '--libs'), '-o', quickstart], cwd=elsewhere)
+    assert 'temperature' in run([quickstart], cwd=elsewhere)
     # The hydrodynamics library alone: its example links nothing of the integrator.
     hydrodynamics = tmp_path/'hydrodynamics'
-    run(['g++', '-std=c++17', f'-I{openmm_dir}/include/rigidlangevin', f'-I{openmm_dir}/include', ROOT/'examples'/'cpp'/'Hydrodynamics.cpp',
-         f'-L{openmm_dir}/lib', '-lRigidLangevinHydrodynamics', '-lOpenMM', f'-Wl,-rpath,{openmm_dir}/lib', '-o', hydrodynamics])
+    run(['g++', ROOT/'examples'/'cpp'/'Hydrodynamics.cpp', *flags('--cflags', '--libs-hydrodynamics'), '-o', hydrodynamics], cwd=elsewhere)
     assert 'matches Stokes-Einstein' in run([hydrodynamics], cwd=elsewhere)
+    project = tmp_path/'cmake_project'
+    project.mkdir()
+    (project/'CMakeLists.txt').write_text(CMAKE_PROJECT.format(examples=ROOT/'examples'/'cpp'))
+    run(['cmake', '-S', project, '-B', project/'build', f'-DCMAKE_PREFIX_PATH={openmm_dir}'], cwd=elsewhere)
+    run(['cmake', '--build', project/'build'], cwd=elsewhere)
+    assert 'temperature' in run([project/'build'/'quickstart'], cwd=elsewhere)
+    assert 'matches Stokes-Einstein' in run([project/'build'/'hydrodynamics'], cwd=elsewhere)
 
     # Relative RPATHs only: the environment can move.
     for library in [*libraries, *(openmm_dir/'lib'/'plugins').glob('libRigidLangevin*'), *package.glob('_core*.so')]:
@@ -94,4 +112,5 @@ def test_pip_install_into_a_fresh_environment(tmp_path):
     assert not list((openmm_dir/'lib'/'plugins').glob('libRigidLangevin*'))
     assert not list((openmm_dir/'lib').glob('libRigidLangevin*'))
     assert not (openmm_dir/'include'/'rigidlangevin').exists()
+    assert not (openmm_dir/'lib'/'cmake'/'RigidLangevin').exists()
     assert not package.exists()

@@ -139,3 +139,15 @@ def test_force_field_sites_take_attributes_and_switch_distance():
     assert parameters['w0'] == 0.05
     assert parameters['dipole'].value_in_unit(unit.elementary_charge*unit.nanometer) == 0.05
     assert parameters['sigma'] == rl.StickyDipoleForce.getModelParameters('SSD')['sigma']
+
+
+def test_cast_force_gives_plugin_forces_their_class():
+    # System.getForce() returns a plain openmm.Force for a plugin's force; castForce gives it its
+    # class (the same C++ object: a change through it shows in the System) and leaves OpenMM's own.
+    topology, system, positions = rl.ssd.waterBox(8, model='SSD/RF', boxSize=1.0*unit.nanometer, cutoff=0.45*unit.nanometer)
+    forces = [rl.castForce(f) for f in system.getForces()]
+    sticky = [f for f in forces if isinstance(f, rl.StickyDipoleForce)]
+    assert len(sticky) == 1 and type(system.getForce(forces.index(sticky[0]))) is mm.Force
+    assert all(type(f) is type(system.getForce(i)) for i, f in enumerate(forces) if f is not sticky[0])
+    sticky[0].setReactionFieldDielectric(33.0)
+    assert rl.StickyDipoleForce.cast(system.getForce(forces.index(sticky[0]))).getReactionFieldDielectric() == 33.0

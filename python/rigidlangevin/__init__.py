@@ -26,4 +26,15 @@ from . import ssd
 from . import forcefield as _forcefield  # registers <StickyDipoleForce> with openmm.app.ForceField
 
 __all__ = ['RigidLangevinIntegrator', 'ResistanceTensor', 'StickyDipoleForce', 'poise', 'centipoise', 'md_viscosity', 'addRigidBodies', 'removeInternalInteractions',
-           'RigidBodyTemperatureReporter', 'RigidBodyStateReporter', 'hydrodynamics', 'ssd']
+           'RigidBodyTemperatureReporter', 'RigidBodyStateReporter', 'castForce', 'hydrodynamics', 'ssd']
+
+
+def castForce(force):
+    """A Force as this plugin's class if it is one (a StickyDipoleForce), else the Force itself.
+
+    OpenMM's Python wrapper gives System.getForce() and XmlSerializer.deserialize() the class of a
+    force only for its own Force classes (a list fixed when OpenMM is built), so a plugin's force
+    comes back as a plain openmm.Force. `[rl.castForce(f) for f in system.getForces()]` gives every
+    force its class; `StickyDipoleForce.cast(force)` does it for one known to be a StickyDipoleForce.
+    The result keeps the original object alive."""
+    return StickyDipoleForce.cast(force) if StickyDipoleForce.isinstance(force) else force
