@@ -21,15 +21,15 @@ namespace RigidLangevinPlugin {
 class ZigguratGaussianRandom {
 public:
     /** Seed the generator (a seed of 0 is used as given; callers pick nonzero seeds). */
-    explicit ZigguratGaussianRandom(uint32_t seed) : sfmt(new OpenMM_SFMT::SFMT()), next32(BufferSize) {
+    explicit ZigguratGaussianRandom(uint32_t seed) : sfmt(new OpenMM_SFMT::SFMT()), t(tables()), next32(BufferSize) {
         OpenMM_SFMT::init_gen_rand(seed, *sfmt);
     }
     /** A standard normal number. */
     double next() {
-        const Tables& t = tables();
         while (true) {
             // u uniform in (-1, 1) from 53 bits; the layer from 7 other bits of the same two words.
-            uint32_t a = word(), b = word();
+            uint32_t a, b;
+            twoWords(a, b);
             double u = 2*(((a >> 5)*67108864.0+(b >> 6)+0.5)*(1.0/9007199254740992.0))-1;
             int layer = (a & 0x1F) | ((b & 0x3) << 5);
             if (std::abs(u) < t.ratio[layer])
@@ -90,6 +90,18 @@ private:
         }
         return buffer[next32++];
     }
+    /** The next two words, as two calls of word() give them, with one test of the buffer's end. */
+    void twoWords(uint32_t& a, uint32_t& b) {
+        if (next32 <= BufferSize-2) {
+            a = buffer[next32];
+            b = buffer[next32+1];
+            next32 += 2;
+        }
+        else {
+            a = word();
+            b = word();
+        }
+    }
     /** Uniform in (0, 1), never 0 (it goes into logarithms). */
     double uniform() {
         return (word()+0.5)*(1.0/4294967296.0);
@@ -106,6 +118,7 @@ private:
     /** Words per buffer: a multiple of 4, at least SFMT's 624 (get_min_array_size32). */
     static const int BufferSize = 1024;
     std::unique_ptr<OpenMM_SFMT::SFMT> sfmt;
+    const Tables& t;  // the shared tables, looked up once (a function-local static is guarded at every use)
     alignas(16) uint32_t buffer[BufferSize];  // SFMT's fill_array32 writes 128-bit words
     int next32;
 };
