@@ -16,7 +16,7 @@ import xml.etree.ElementTree as ElementTree
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 HEADERS = [ROOT/'openmmapi/include/RigidLangevinIntegrator.h', ROOT/'openmmapi/include/StickyDipoleForce.h',
-           ROOT/'hydrodynamics/include/ResistanceTensor.h']
+           ROOT/'hydrodynamics/include/ResistanceTensor.h', ROOT/'hydrodynamics/include/CoupledResistance.h']
 NAMESPACE = 'RigidLangevinPlugin'
 DOCSTRINGS = ROOT/'python/docstrings.i'
 # What the Python module adds to a class's C++ description.
@@ -29,6 +29,9 @@ PYTHON_NOTES = {
     'StickyDipoleForce': 'In Python, a site\'s parameters are keyword arguments (Quantities or MD units: nm, kJ/mol, e*nm) starting '
                          'from a named model\'s: addSite(particle, reference1, reference2, model=\'SSD/RF\', dipole=...). '
                          'System.getForce() returns a plain openmm.Force: StickyDipoleForce.cast(force) gives the StickyDipoleForce.',
+    'CoupledResistance': 'In Python, getResistance() and getMobility() return (6N, 6N) numpy arrays; '
+                         'rigidlangevin.hydrodynamics.coupledResistance(bodies) and coupledMobility(bodies) take the bodies as '
+                         '(blob positions, radii, reference point) with numpy arrays and Quantities.',
     'ResistanceTensor': 'In Python, lengths may be Quantities; getMatrix() and getDiffusionTensor() return 6x6 numpy arrays. The module '
                         'rigidlangevin.hydrodynamics offers the same models as functions that take numpy arrays and Quantities.',
 }

@@ -43,6 +43,7 @@ using OpenMM::isNumpyAvailable;
 %{
 #include "RigidLangevinIntegrator.h"
 #include "ResistanceTensor.h"
+#include "CoupledResistance.h"
 #include "StickyDipoleForce.h"
 #include "OpenMM.h"
 #include "OpenMMAmoeba.h"
@@ -445,6 +446,22 @@ public:
     ResistanceTensor translated(const Vec3& displacement) const;
     ResistanceTensor scaled(double factor) const;
     void validate(const std::string& what) const;
+};
+
+%pythonappend CoupledResistance::getResistance %{
+    val = _units.square_matrix(val)
+%}
+%pythonappend CoupledResistance::getMobility %{
+    val = _units.square_matrix(val)
+%}
+
+class CoupledResistance {
+public:
+    CoupledResistance();
+    int addBody(const std::vector<Vec3>& blobPositions, const std::vector<double>& blobRadii, const Vec3& origin);
+    int getNumBodies() const;
+    std::vector<double> getResistance() const;
+    std::vector<double> getMobility() const;
 };
 
 }

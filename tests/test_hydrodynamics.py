@@ -119,3 +119,47 @@ def test_protein_preset_is_hydropros_atomic_model():
     np.testing.assert_allclose(bare.getMatrix(), whole.getMatrix(), rtol=1e-12, atol=0)
     with pytest.raises(ValueError, match='no non-hydrogen atoms'):
         hydro.protein(pdb.topology, pdb.positions, atoms=[a.index for a in pdb.topology.atoms() if a.element.symbol == 'H'][:3])
+
+
+def numpy_rpy_block(d, ai, aj):
+    """The generalised RPY block (per unit viscosity) of blobs of radii ai, aj, j at offset d from i:
+    Zuk, Wajnryb, Mizerski & Szymczak, J. Fluid Mech. 741, R5 (2014), written here independently."""
+    r = np.linalg.norm(d)
+    if r == 0 or r <= abs(ai-aj):
+        return np.eye(3)/(6*math.pi*max(ai, aj))
+    rr = np.outer(d, d)/r**2
+    if r > ai+aj:
+        return ((np.eye(3)+rr)+(ai*ai+aj*aj)/r**2*(np.eye(3)/3-rr))/(8*math.pi*r)
+    return ((16*r**3*(ai+aj)-((ai-aj)**2+3*r*r)**2)/(32*r**3)*np.eye(3)+3*((ai-aj)**2-r*r)**2/(32*r**3)*rr)/(6*math.pi*ai*aj)
+
+
+def test_coupled_resistance_against_an_independent_computation():
+    # Three bodies of unequal blobs, two of them overlapping each other: the library's 18x18
+    # resistance against R = K^T M^-1 K assembled in numpy from the formula (to 1e-10), the mobility
+    # its inverse, and one body alone the bead tensor of its blobs. Units: Quantities are taken.
+    rng = np.random.default_rng(4)
+    bodies = []
+    for centre in ((0, 0, 0), (0.55, 0.1, 0), (2.0, 0.3, 0.4)):
+        blobs = np.array(centre)+rng.uniform(-0.15, 0.15, (4, 3))
+        bodies.append((blobs, rng.uniform(0.05, 0.1, 4), np.array(centre)+0.02))
+    resistance = hydro.coupledResistance([(b*unit.nanometer, r*unit.nanometer, o) for b, r, o in bodies])
+    positions = np.concatenate([b for b, _, _ in bodies])
+    radii = np.concatenate([r for _, r, _ in bodies])
+    m = np.block([[numpy_rpy_block(positions[j]-positions[i], radii[i], radii[j]) for j in range(len(radii))] for i in range(len(radii))])
+    k = np.zeros((3*len(radii), 18))
+    blob = 0
+    for b, (blobs, _, origin) in enumerate(bodies):
+        for p in blobs:
+            x, y, z = p-origin
+            k[3*blob:3*blob+3, 6*b:6*b+3] = np.eye(3)
+            k[3*blob:3*blob+3, 6*b+3:6*b+6] = -np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]])
+            blob += 1
+    expected = k.T@np.linalg.solve(m, k)
+    assert np.abs(resistance-expected).max() < 1e-10*np.abs(expected).max()
+    assert np.abs(hydro.coupledMobility(bodies)@resistance-np.eye(18)).max() < 1e-8
+    alone = hydro.coupledResistance(bodies[:1])
+    assert np.abs(alone-hydro.beads(*bodies[0][:2]).getMatrix(bodies[0][2])).max() < 1e-10*np.abs(alone).max()
+    with pytest.raises(mm.OpenMMException, match='no friction for some rotation'):
+        hydro.coupledMobility([([(0, 0, 0)], [0.1], (0, 0, 0))])
+    with pytest.raises(ValueError, match='reference point'):
+        hydro.coupledResistance([([(0, 0, 0)], [0.1])])

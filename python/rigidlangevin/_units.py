@@ -53,6 +53,13 @@ def matrix6(values):
     return np.array(values, dtype=float).reshape(6, 6)
 
 
+def square_matrix(values):
+    """A flat row-major list of n*n values as an n x n numpy array."""
+    values = np.asarray(values, dtype=float)
+    n = int(round(np.sqrt(len(values))))
+    return values.reshape(n, n)
+
+
 def resistance_result(result):
     """(6x6 array, origin Vec3 in nm, reference positions (N, 3) in nm) from the wrapper's
     (36 values, (x, y, z), [(x, y, z)]), or None."""

@@ -24,9 +24,9 @@ import numpy as np
 import openmm as mm
 import openmm.unit as unit
 
-from .core import ResistanceTensor
+from .core import CoupledResistance, ResistanceTensor
 
-__all__ = ['ResistanceTensor', 'sphere', 'ellipsoid', 'spheroid', 'beads', 'beadVolume', 'unionVolume', 'roughShell',
+__all__ = ['ResistanceTensor', 'CoupledResistance', 'coupledResistance', 'coupledMobility', 'sphere', 'ellipsoid', 'spheroid', 'beads', 'beadVolume', 'unionVolume', 'roughShell',
            'roughShellBeads', 'shellExtrapolated', 'spheroidRoughShell', 'spheroidRoughShellBeads', 'spheroidShellExtrapolated',
            'freeDrainingBeads', 'explicit', 'protein', 'HYDROPRO_ATOMIC_RADIUS', 'diffusionConstants']
 
@@ -148,6 +148,38 @@ def freeDrainingBeads(positions, radii):
 @_as(ResistanceTensor.explicit, 'matrix a 6x6 array (blocks per unit viscosity in nm, nm^2, nm^3); origin in nm or a Quantity.')
 def explicit(matrix, origin=(0, 0, 0)):
     return ResistanceTensor.explicit(matrix, _point(origin))
+
+
+def _coupled(bodies):
+    coupled = CoupledResistance()
+    for body in bodies:
+        if len(body) != 3:
+            raise ValueError('each body is (blob positions, blob radii, reference point)')
+        positions, radii, origin = body
+        coupled.addBody(_vectors(positions), _lengths(radii), _point(origin))
+    return coupled
+
+
+def coupledResistance(bodies):
+    """The resistance per unit viscosity of several bodies that feel each other through the solvent
+    (see CoupledResistance): a (6N, 6N) numpy array, body by body in the order given, each with its
+    velocity (of its reference point) first and its angular velocity second; blocks in nm, nm^2, nm^3.
+
+    bodies: a sequence of (blob positions, blob radii, reference point) per body, where the bodies
+    are now: positions an (N, 3) array, a list of Vec3 or a Quantity (nm); radii a sequence or a
+    Quantity (nm); the reference point (nm) is where the body's velocity is taken and its torque about.
+
+        xi = hydro.coupledResistance([(blobs1, radii1, centre1), (blobs2, radii2, centre2)])
+        xi[:6, 6:]    # how body 2's motion drags body 1
+    """
+    return _coupled(bodies).getResistance()
+
+
+def coupledMobility(bodies):
+    """The inverse of coupledResistance(bodies): (velocities, angular velocities) = mobility
+    (forces, torques) / viscosity. Refused, naming the body, where a body cannot rotate about some
+    axis (one blob, or blobs on one line)."""
+    return _coupled(bodies).getMobility()
 
 
 #: HYDROPRO's atomic element radius (AER) for atomic-level models: each non-hydrogen atom becomes a

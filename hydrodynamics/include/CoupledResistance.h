@@ -1,0 +1,71 @@
+#ifndef RIGID_LANGEVIN_COUPLED_RESISTANCE_H_
+#define RIGID_LANGEVIN_COUPLED_RESISTANCE_H_
+
+#include "openmm/Vec3.h"
+#include "internal/windowsExportHydrodynamics.h"
+#include <vector>
+
+namespace RigidLangevinPlugin {
+
+/**
+ * Rigid bodies that feel each other through the solvent: the resistance of several bodies moving
+ * at once, each made of blobs (spheres fixed in the body), in an unbounded fluid. This is the
+ * standard rigid multiblob formulation (Usabiaga et al., Commun. Appl. Math. Comput. Sci. 11, 217
+ * (2016)): M is the blobs' generalised Rotne-Prager-Yamakawa mobility (Zuk et al., J. Fluid Mech.
+ * 741, R5 (2014): unequal radii and overlapping blobs included, positive definite for every
+ * configuration of distinct blobs), K maps the bodies' velocities to their blobs' velocities
+ * (u_k = V_b + omega_b x (r_k - o_b) for blob k of body b, o_b its reference point), and the
+ * bodies' resistance per unit viscosity is
+ *
+ *     R = K^T M^-1 K     (6N x 6N, symmetric positive semidefinite),
+ *
+ * (forces and torques on every body) = -viscosity R (velocities and angular velocities of every
+ * body), body by body in the order added, each with its velocity first and its angular velocity
+ * second, the velocity that of its reference point and the torque about it; the blocks' units are
+ * those of ResistanceTensor (nm, nm^2, nm^3 per unit viscosity). With one body R is that body's
+ * ResistanceTensor::beads() tensor (without volume correction); bodies far apart decouple, each
+ * diagonal block tending to its own tensor as the coupling falls off with distance like
+ * (size/distance).
+ *
+ * Dense and exact: M is Cholesky-factorised and solved for the 6N columns of K (cost (3B)^3/3 for B
+ * blobs, memory 72 B^2 bytes). This is the definition of correct that faster methods are tested
+ * against; it holds some thousands of blobs.
+ */
+class OPENMM_EXPORT_HYDRODYNAMICS CoupledResistance {
+public:
+    /**
+     * Add a body.
+     *
+     * @param blobPositions  the centres of its blobs (nm), where the body is
+     * @param blobRadii      their radii (nm), positive
+     * @param origin         the body's reference point (nm): its velocity is that of this point and
+     *                       torques on it are taken about it
+     * @return the index of the body
+     */
+    int addBody(const std::vector<OpenMM::Vec3>& blobPositions, const std::vector<double>& blobRadii, const OpenMM::Vec3& origin);
+    /** Get the number of bodies that have been added. */
+    int getNumBodies() const {
+        return origins.size();
+    }
+    /**
+     * The 36 N^2 values, row-major, of the bodies' resistance R per unit viscosity (see the class
+     * description). Throws an OpenMMException naming the blobs if two of them are the same sphere (then
+     * M is singular), or if a blob's position or radius is not finite and positive.
+     */
+    std::vector<double> getResistance() const;
+    /**
+     * The 36 N^2 values, row-major, of the bodies' mobility R^-1 per unit viscosity: (velocities and
+     * angular velocities) = mobility (forces and torques) / viscosity. Throws an OpenMMException
+     * naming the body if R is singular: a body of one blob, or of blobs on one line, has no
+     * friction for some rotation.
+     */
+    std::vector<double> getMobility() const;
+private:
+    std::vector<std::vector<OpenMM::Vec3> > blobs;
+    std::vector<std::vector<double> > radii;
+    std::vector<OpenMM::Vec3> origins;
+};
+
+} // namespace RigidLangevinPlugin
+
+#endif /*RIGID_LANGEVIN_COUPLED_RESISTANCE_H_*/

@@ -1,0 +1,102 @@
+#include "CoupledResistance.h"
+#include "internal/BeadHydrodynamics.h"
+#include "internal/ResistanceMath.h"
+#include "internal/RotnePragerYamakawa.h"
+#include "openmm/OpenMMException.h"
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <string>
+
+using namespace RigidLangevinPlugin;
+using namespace RigidLangevinPlugin::ResistanceMath;
+using OpenMM::OpenMMException;
+using OpenMM::Vec3;
+using std::vector;
+
+namespace {
+
+typedef Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> Matrix;
+
+std::vector<double> toVector(const Matrix& m) {
+    return std::vector<double>(m.data(), m.data()+m.size());
+}
+
+} // namespace
+
+int CoupledResistance::addBody(const vector<Vec3>& blobPositions, const vector<double>& blobRadii, const Vec3& origin) {
+    std::string name = "CoupledResistance::addBody (body "+std::to_string(getNumBodies())+")";
+    BeadHydrodynamics::validate(name, blobPositions, blobRadii);
+    if (!std::isfinite(origin[0]) || !std::isfinite(origin[1]) || !std::isfinite(origin[2]))
+        throw OpenMMException(name+": the reference point is not finite");
+    blobs.push_back(blobPositions);
+    radii.push_back(blobRadii);
+    origins.push_back(origin);
+    return origins.size()-1;
+}
+
+vector<double> CoupledResistance::getResistance() const {
+    const int numBodies = getNumBodies();
+    if (numBodies == 0)
+        throw OpenMMException("CoupledResistance::getResistance: no bodies have been added");
+    // Every blob of every body, with its body; M over all of them (the lower triangle is enough).
+    vector<Vec3> positions;
+    vector<double> allRadii;
+    vector<int> owner;
+    for (int b = 0; b < numBodies; b++)
+        for (int k = 0; k < (int) blobs[b].size(); k++) {
+            positions.push_back(blobs[b][k]);
+            allRadii.push_back(radii[b][k]);
+            owner.push_back(b);
+        }
+    // Two bodies may hold the same sphere: M would be singular, and the message names both blobs.
+    BeadHydrodynamics::validate("CoupledResistance::getResistance (blobs numbered across all bodies, in the order added)", positions, allRadii);
+    const int numBlobs = positions.size();
+    Matrix mobility(3*numBlobs, 3*numBlobs);
+    for (int i = 0; i < numBlobs; i++) {
+        for (int j = 0; j < i; j++) {
+            double block[9];
+            Vec3 d = positions[j]-positions[i];
+            RotnePragerYamakawa::mobilityBlock(d[0], d[1], d[2], allRadii[i], allRadii[j], block);
+            for (int k = 0; k < 3; k++)
+                for (int l = 0; l < 3; l++)
+                    mobility(3*i+k, 3*j+l) = block[3*k+l];
+        }
+        mobility.block<3, 3>(3*i, 3*i) = RotnePragerYamakawa::selfMobility(allRadii[i])*Eigen::Matrix3d::Identity();
+    }
+    // K: blob k of body b moves at V_b - skew(r_k - o_b) omega_b.
+    Matrix k = Matrix::Zero(3*numBlobs, 6*numBodies);
+    for (int i = 0; i < numBlobs; i++) {
+        int b = owner[i];
+        k.block<3, 3>(3*i, 6*b) = Eigen::Matrix3d::Identity();
+        k.block<3, 3>(3*i, 6*b+3) = -skew(toEigen(positions[i]-origins[b]));
+    }
+    Eigen::LLT<Matrix, Eigen::Lower> cholesky(mobility);
+    if (cholesky.info() != Eigen::Success)
+        throw OpenMMException("CoupledResistance::getResistance: the blobs' mobility matrix could not be factorised (look for nearly coincident blobs)");
+    Matrix solved = cholesky.solve(k);
+    Matrix resistance = k.transpose()*solved;
+    // Exactly symmetric, as the physics is (rounding leaves it so only to about 1e-16 relative).
+    resistance = (0.5*(resistance+resistance.transpose())).eval();
+    return toVector(resistance);
+}
+
+vector<double> CoupledResistance::getMobility() const {
+    const int n = 6*getNumBodies();
+    vector<double> values = getResistance();
+    Eigen::Map<Matrix> resistance(values.data(), n, n);
+    // A body that cannot rotate about some axis (one blob, or blobs on a line) leaves R singular:
+    // name it rather than return an inverse of rounding errors.
+    for (int b = 0; b < getNumBodies(); b++) {
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> rotation(resistance.block<3, 3>(6*b+3, 6*b+3));
+        if (!(rotation.eigenvalues()[0] > 1e-10*rotation.eigenvalues()[2]) || rotation.eigenvalues()[2] <= 0)
+            throw OpenMMException("CoupledResistance::getMobility: body "+std::to_string(b)+" has no friction for some rotation (it is one blob, "
+                                  "or blobs on one line), so the bodies' resistance has no inverse; give it blobs off its axis");
+    }
+    Eigen::LLT<Matrix> cholesky(resistance);
+    if (cholesky.info() != Eigen::Success)
+        throw OpenMMException("CoupledResistance::getMobility: the bodies' resistance is not positive definite");
+    Matrix mobility = cholesky.solve(Matrix::Identity(n, n));
+    mobility = (0.5*(mobility+mobility.transpose())).eval();
+    return toVector(mobility);
+}
