@@ -24,7 +24,8 @@ PYTHON_NOTES = {
     'RigidLangevinIntegrator': 'In Python, temperatures, viscosities, times and lengths may be openmm.unit Quantities (a viscosity '
                                'in any unit, rigidlangevin.poise and centipoise among them); values come back as Quantities. '
                                'setBodyResistance() takes the tensor as a 6x6 array; getBodyResistance() returns (6x6 array, origin, '
-                               'reference positions) or None. cast() turns an openmm.Integrator that is one (from XmlSerializer) '
+                               'reference positions) or None; setBodyBlobs() takes centres and radii as arrays or Quantities, getBodyBlobs() returns '
+                               '(centres, radii, reference positions) as Quantities in nm, or None. cast() turns an openmm.Integrator that is one (from XmlSerializer) '
                                'into a RigidLangevinIntegrator.',
     'StickyDipoleForce': 'In Python, a site\'s parameters are keyword arguments (Quantities or MD units: nm, kJ/mol, e*nm) starting '
                          'from a named model\'s: addSite(particle, reference1, reference2, model=\'SSD/RF\', dipole=...). '

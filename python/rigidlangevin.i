@@ -111,6 +111,9 @@ class ResistanceTensor;
 %pythonprepend RigidLangevinIntegrator::setBodyResistance %{
     tensor = _units.tensor_values(tensor)
 %}
+%pythonprepend RigidLangevinIntegrator::setBodyBlobs %{
+    blobRadii = _units.lengths_in_nm(blobRadii)
+%}
 %pythonappend RigidLangevinIntegrator::getParticleRadius %{
     val = None if val < 0 else unit.Quantity(val, unit.nanometer)
 %}
@@ -154,6 +157,11 @@ public:
     void clearBodyResistance(int index);
     void setParticleRadius(int particle, double radius);
     double getParticleRadius(int particle) const;
+    void setHydrodynamicInteractions(bool enabled);
+    bool getHydrodynamicInteractions() const;
+    void setBodyBlobs(int index, const std::vector<Vec3>& blobPositions, const std::vector<double>& blobRadii,
+                      const std::vector<Vec3>& referencePositions);
+    void clearBodyBlobs(int index);
     int getNumDegreesOfFreedom() const;
     std::vector<Vec3> getRigidBodyCoordinates(int index) const;
     int getNumBodyTypes() const;
@@ -177,6 +185,23 @@ public:
             for (int i = 0; i < (int) reference.size(); i++)
                 PyList_SET_ITEM(positions, i, Py_BuildValue("(ddd)", reference[i][0], reference[i][1], reference[i][2]));
             return Py_BuildValue("(N(ddd)N)", values, origin[0], origin[1], origin[2], positions);
+        }
+        /* The blobs given to a body as ([(x, y, z)] centres, [radius], [(x, y, z)] reference positions), or None. */
+        PyObject* _getBodyBlobs(int index) const {
+            std::vector<Vec3> positions, reference;
+            std::vector<double> radii;
+            if (!self->getBodyBlobs(index, positions, radii, reference))
+                Py_RETURN_NONE;
+            PyObject* centres = PyList_New(positions.size());
+            PyObject* blobRadii = PyList_New(radii.size());
+            for (int i = 0; i < (int) positions.size(); i++) {
+                PyList_SET_ITEM(centres, i, Py_BuildValue("(ddd)", positions[i][0], positions[i][1], positions[i][2]));
+                PyList_SET_ITEM(blobRadii, i, PyFloat_FromDouble(radii[i]));
+            }
+            PyObject* referenceList = PyList_New(reference.size());
+            for (int i = 0; i < (int) reference.size(); i++)
+                PyList_SET_ITEM(referenceList, i, Py_BuildValue("(ddd)", reference[i][0], reference[i][1], reference[i][2]));
+            return Py_BuildValue("(NNN)", centres, blobRadii, referenceList);
         }
         /* getRigidBodyStates() as four flat lists (3, 9, 3 and 3 values per body). */
         PyObject* _getRigidBodyStates() const {
@@ -227,6 +252,12 @@ public:
                 """The explicit resistance tensor of a body, as (6x6 numpy array, origin Vec3 in nm, the reference
                 positions of the body's particles it belongs to as an (N, 3) array in nm), or None."""
                 return _units.resistance_result(self._getBodyResistance(index))
+
+            def getBodyBlobs(self, index):
+                """The blobs given to a body with setBodyBlobs(), as (centres (N, 3) Quantity in nm, radii (N,)
+                Quantity in nm, the reference positions of the body's particles they belong to (M, 3) Quantity
+                in nm), or None if its particles with a radius are its blobs."""
+                return _units.blobs_result(self._getBodyBlobs(index))
 
             @staticmethod
             def cast(integrator):
@@ -460,6 +491,7 @@ public:
     CoupledResistance();
     int addBody(const std::vector<Vec3>& blobPositions, const std::vector<double>& blobRadii, const Vec3& origin);
     int getNumBodies() const;
+    void setBodyResistance(int body, const ResistanceTensor& own);
     std::vector<double> getResistance() const;
     std::vector<double> getMobility() const;
 };

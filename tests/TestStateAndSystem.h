@@ -10,6 +10,7 @@
 #include "openmm/NonbondedForce.h"
 #include "openmm/serialization/XmlSerializer.h"
 #include <gtest/gtest.h>
+#include <memory>
 #include <sstream>
 
 using namespace OpenMM;
@@ -164,8 +165,14 @@ TEST_P(StateAndSystem, SerializationRoundTrip) {
     integrator.setBodyResistance(1, tensor, Vec3(0.1, -0.2, 0.3), reference);
     integrator.setParticleRadius(4, 0.17);
     integrator.setParticleRadius(0, 0.2);
+    integrator.setHydrodynamicInteractions(true);
+    std::vector<Vec3> blobPositions = {Vec3(0.05, 0.1, 0.2), Vec3(-0.3, 0.1, 0.0)};
+    std::vector<double> blobRadii = {0.11, 0.13};
+    std::vector<Vec3> blobReference = {Vec3(0.0, 0.1, 0.2), Vec3(-0.3, 0.2, 0.1), Vec3(0.2, -0.1, 0.0)};
+    integrator.setBodyBlobs(0, blobPositions, blobRadii, blobReference);
     std::stringstream buffer;
     XmlSerializer::serialize<Integrator>(&integrator, "Integrator", buffer);
+    const std::string xml = buffer.str();
     RigidLangevinIntegrator* copy = dynamic_cast<RigidLangevinIntegrator*>(XmlSerializer::deserialize<Integrator>(buffer));
     ASSERT_TRUE(copy != NULL);
     EXPECT_EQ(integrator.getTemperature(), copy->getTemperature());
@@ -187,7 +194,31 @@ TEST_P(StateAndSystem, SerializationRoundTrip) {
     EXPECT_EQ(Vec3(0.1, -0.2, 0.3), origin);
     EXPECT_EQ(reference, r);
     EXPECT_EQ(integrator.getParticleRadii(), copy->getParticleRadii());
+    EXPECT_TRUE(copy->getHydrodynamicInteractions());
+    std::vector<Vec3> p, reference0;
+    std::vector<double> radii;
+    ASSERT_TRUE(copy->getBodyBlobs(0, p, radii, reference0));
+    EXPECT_EQ(blobPositions, p);
+    EXPECT_EQ(blobRadii, radii);
+    EXPECT_EQ(blobReference, reference0);
+    EXPECT_FALSE(copy->getBodyBlobs(1, p, radii, reference0));
     delete copy;
+
+    // Version 2 (before hydrodynamic interactions) reads as without them; an unknown version is refused.
+    auto withVersion = [&](const std::string& version) {
+        std::string text = xml;
+        size_t at = text.find("version=\"3\"");
+        EXPECT_NE(std::string::npos, at);
+        text.replace(at, 11, "version=\""+version+"\"");
+        at = text.find(" hydrodynamicInteractions=\"1\"");
+        EXPECT_NE(std::string::npos, at);
+        return text.erase(at, 30);
+    };
+    std::stringstream version2(withVersion("2"));
+    std::unique_ptr<Integrator> old(XmlSerializer::deserialize<Integrator>(version2));
+    EXPECT_FALSE(dynamic_cast<RigidLangevinIntegrator&>(*old).getHydrodynamicInteractions());
+    std::stringstream version4(withVersion("4"));
+    EXPECT_THROW(XmlSerializer::deserialize<Integrator>(version4), OpenMMException);
 }
 
 TEST_P(StateAndSystem, StateRestoresBodiesExactly) {

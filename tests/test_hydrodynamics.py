@@ -163,3 +163,28 @@ def test_coupled_resistance_against_an_independent_computation():
         hydro.coupledMobility([([(0, 0, 0)], [0.1], (0, 0, 0))])
     with pytest.raises(ValueError, match='reference point'):
         hydro.coupledResistance([([(0, 0, 0)], [0.1])])
+
+
+def test_coupled_resistance_calibrated_to_each_bodys_own_tensor():
+    # own=: alone, a body has exactly its own tensor; with two bodies the calibrated R is T^T R T
+    # with T D T = Xi per body (T written here in numpy from eigendecompositions); own=None for a
+    # body keeps its blobs' friction.
+    rng = np.random.default_rng(5)
+    bodies = [(np.array(c)+rng.uniform(-0.2, 0.2, (5, 3)), rng.uniform(0.05, 0.1, 5), np.array(c)) for c in ((0, 0, 0), (0.9, 0.2, 0))]
+    own = [hydro.ellipsoid(0.4*unit.nanometer, 0.3, 0.2, center=bodies[0][2]), None]
+    xi = own[0].getMatrix(mm.Vec3(*bodies[0][2]))
+    alone = hydro.coupledResistance(bodies[:1], own=own[:1])
+    assert np.abs(alone-xi).max() < 1e-12*np.abs(xi).max()
+
+    def power(m, exponent):
+        w, v = np.linalg.eigh(m)
+        return v@np.diag(w**exponent)@v.T
+    d = hydro.beads(*bodies[0][:2]).getMatrix(mm.Vec3(*bodies[0][2]))
+    t = np.eye(12)
+    t[:6, :6] = power(d, -0.5)@power(power(d, 0.5)@xi@power(d, 0.5), 0.5)@power(d, -0.5)
+    plain = hydro.coupledResistance(bodies)
+    calibrated = hydro.coupledResistance(bodies, own=own)
+    assert np.abs(calibrated-t.T@plain@t).max() < 1e-10*np.abs(plain).max()
+    assert np.abs(hydro.coupledMobility(bodies, own=own)@calibrated-np.eye(12)).max() < 1e-8
+    with pytest.raises(ValueError, match='own gives 1 tensors for 2 bodies'):
+        hydro.coupledResistance(bodies, own=own[:1])

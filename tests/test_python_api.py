@@ -159,3 +159,42 @@ def test_checkpoint_and_state_continue_on_every_platform(platform):
     for b in range(20):
         for i, j in ((0, 1), (0, 2), (1, 2)):
             assert np.linalg.norm(end[3*b+i]-end[3*b+j]) == pytest.approx(np.linalg.norm(start[3*b+i]-start[3*b+j]), abs=1e-9)
+
+
+def test_hydrodynamic_interactions_from_python():
+    # Off by default; blobs given with units come back as Quantities and through XML; with
+    # interactions on, pulling one body drags its neighbour (at zero temperature, so only the
+    # coupling moves it), and without them it stays put. BAOAB is required.
+    system, integrator, positions = water_like_body_system(2)
+    assert not integrator.getHydrodynamicInteractions()
+    blobs = np.array([[0.0, 0.0, 0.0], [0.06, 0.03, 0.0], [0.0, 0.07, 0.02]])*unit.nanometer
+    integrator.setBodyBlobs(0, blobs, [0.1, 0.08, 0.08]*unit.nanometer, positions[:3])
+    centres, radii, reference = integrator.getBodyBlobs(0)
+    assert np.allclose(centres.value_in_unit(unit.nanometer), blobs.value_in_unit(unit.nanometer))
+    assert np.allclose(radii.value_in_unit(unit.angstrom), [1.0, 0.8, 0.8])
+    assert integrator.getBodyBlobs(1) is None
+    integrator.setHydrodynamicInteractions(True)
+    xml = mm.XmlSerializer.serialize(integrator)
+    restored = rl.RigidLangevinIntegrator.cast(mm.XmlSerializer.deserialize(xml))
+    assert restored.getHydrodynamicInteractions() and mm.XmlSerializer.serialize(restored) == xml
+    with pytest.raises(mm.OpenMMException, match='BAOAB'):
+        mm.Context(system, integrator, mm.Platform.getPlatformByName('Reference'))
+
+    pull = mm.CustomExternalForce('-100*x')
+    for p in range(3):
+        pull.addParticle(p)
+    system.addForce(pull)
+    dragged = {}
+    for interactions in (True, False):
+        steps = copy.copy(integrator)
+        steps.setTemperature(0)
+        steps.setScheme(rl.RigidLangevinIntegrator.BAOAB)
+        steps.setHydrodynamicInteractions(interactions)
+        context = mm.Context(system, steps, mm.Platform.getPlatformByName('Reference'))
+        context.setPositions(positions)
+        steps.step(200)
+        dragged[interactions] = steps.getRigidBodyStates().velocities[1].value_in_unit(unit.nanometer/unit.picosecond)
+        puller = steps.getRigidBodyStates().velocities[0].value_in_unit(unit.nanometer/unit.picosecond)
+    assert dragged[False][0] == 0
+    # Along the line of centres, Oseen's 3a/(2r) for blobs of about a = 0.13 nm 1 nm apart: 0.19
+    assert 0.1*puller[0] < dragged[True][0] < 0.3*puller[0]

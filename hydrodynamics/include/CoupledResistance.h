@@ -1,6 +1,7 @@
 #ifndef RIGID_LANGEVIN_COUPLED_RESISTANCE_H_
 #define RIGID_LANGEVIN_COUPLED_RESISTANCE_H_
 
+#include "ResistanceTensor.h"
 #include "openmm/Vec3.h"
 #include "internal/windowsExportHydrodynamics.h"
 #include <vector>
@@ -27,6 +28,15 @@ namespace RigidLangevinPlugin {
  * diagonal block tending to its own tensor as the coupling falls off with distance like
  * (size/distance).
  *
+ * A body of few blobs resolves its shape only roughly, so alone it has the friction of its blobs, not
+ * the one of its own hydrodynamic model. setBodyResistance() calibrates it: with D its blobs'
+ * resistance alone and Xi its own tensor, the symmetric positive definite T with T D T = Xi
+ * replaces R by T^T R T (T acting on the body's six rows and columns). That is a congruence, so R
+ * stays symmetric positive definite for every configuration; the body alone then has exactly Xi,
+ * whatever its blobs; and as its blobs are refined (D -> Xi) T tends to the identity and R to the
+ * uncalibrated one. The integrator couples bodies this way (RigidLangevinIntegrator::
+ * setHydrodynamicInteractions()).
+ *
  * Dense and exact: M is Cholesky-factorised and solved for the 6N columns of K (cost (3B)^3/3 for B
  * blobs, memory 72 B^2 bytes). This is the definition of correct that faster methods are tested
  * against; it holds some thousands of blobs.
@@ -43,6 +53,14 @@ public:
      * @return the index of the body
      */
     int addBody(const std::vector<OpenMM::Vec3>& blobPositions, const std::vector<double>& blobRadii, const OpenMM::Vec3& origin);
+    /**
+     * Calibrate a body so that, alone, it has exactly the friction own (see the class description):
+     * a tensor of the same body where it now is, such as ResistanceTensor::shellExtrapolated() or
+     * ellipsoid() of its shape, or beads() of its blobs with a volume correction. The body's blobs
+     * must resist every motion (six degrees of freedom: not one blob, not all on a line), or
+     * getResistance() throws naming it.
+     */
+    void setBodyResistance(int body, const ResistanceTensor& own);
     /** Get the number of bodies that have been added. */
     int getNumBodies() const {
         return origins.size();
@@ -64,6 +82,7 @@ private:
     std::vector<std::vector<OpenMM::Vec3> > blobs;
     std::vector<std::vector<double> > radii;
     std::vector<OpenMM::Vec3> origins;
+    std::vector<std::vector<double> > ownResistance;  // about the body's origin; empty if not calibrated
 };
 
 } // namespace RigidLangevinPlugin

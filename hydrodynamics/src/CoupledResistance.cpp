@@ -1,5 +1,6 @@
 #include "CoupledResistance.h"
 #include "internal/BeadHydrodynamics.h"
+#include "internal/CoupledResistanceMath.h"
 #include "internal/ResistanceMath.h"
 #include "internal/RotnePragerYamakawa.h"
 #include "openmm/OpenMMException.h"
@@ -32,14 +33,20 @@ int CoupledResistance::addBody(const vector<Vec3>& blobPositions, const vector<d
     blobs.push_back(blobPositions);
     radii.push_back(blobRadii);
     origins.push_back(origin);
+    ownResistance.push_back(vector<double>());
     return origins.size()-1;
+}
+
+void CoupledResistance::setBodyResistance(int body, const ResistanceTensor& own) {
+    if (body < 0 || body >= getNumBodies())
+        throw OpenMMException("CoupledResistance::setBodyResistance: there is no body "+std::to_string(body)+" (there are "+std::to_string(getNumBodies())+")");
+    ownResistance[body] = own.getMatrix(origins[body]);
 }
 
 vector<double> CoupledResistance::getResistance() const {
     const int numBodies = getNumBodies();
     if (numBodies == 0)
         throw OpenMMException("CoupledResistance::getResistance: no bodies have been added");
-    // Every blob of every body, with its body; M over all of them (the lower triangle is enough).
     vector<Vec3> positions;
     vector<double> allRadii;
     vector<int> owner;
@@ -49,34 +56,19 @@ vector<double> CoupledResistance::getResistance() const {
             allRadii.push_back(radii[b][k]);
             owner.push_back(b);
         }
-    // Two bodies may hold the same sphere: M would be singular, and the message names both blobs.
-    BeadHydrodynamics::validate("CoupledResistance::getResistance (blobs numbered across all bodies, in the order added)", positions, allRadii);
-    const int numBlobs = positions.size();
-    Matrix mobility(3*numBlobs, 3*numBlobs);
-    for (int i = 0; i < numBlobs; i++) {
-        for (int j = 0; j < i; j++) {
-            double block[9];
-            Vec3 d = positions[j]-positions[i];
-            RotnePragerYamakawa::mobilityBlock(d[0], d[1], d[2], allRadii[i], allRadii[j], block);
-            for (int k = 0; k < 3; k++)
-                for (int l = 0; l < 3; l++)
-                    mobility(3*i+k, 3*j+l) = block[3*k+l];
-        }
-        mobility.block<3, 3>(3*i, 3*i) = RotnePragerYamakawa::selfMobility(allRadii[i])*Eigen::Matrix3d::Identity();
+    Matrix resistance = CoupledResistanceMath::resistance("CoupledResistance::getResistance (blobs numbered across all bodies, in the order added)",
+                                                          positions, allRadii, owner, origins);
+    // Calibrated bodies: T^T R T, T block-diagonal, each block from the body's blobs alone.
+    for (int b = 0; b < numBodies; b++) {
+        if (ownResistance[b].empty())
+            continue;
+        std::string name = "CoupledResistance::getResistance (body "+std::to_string(b)+")";
+        Eigen::MatrixXd alone = CoupledResistanceMath::resistance(name, blobs[b], radii[b], vector<int>(blobs[b].size(), 0), {origins[b]});
+        Eigen::MatrixXd own = Eigen::Map<const Matrix>(ownResistance[b].data(), 6, 6);
+        Eigen::MatrixXd t = CoupledResistanceMath::calibration(name, alone, own);
+        resistance.middleRows(6*b, 6) = (t*resistance.middleRows(6*b, 6)).eval();
+        resistance.middleCols(6*b, 6) = (resistance.middleCols(6*b, 6)*t).eval();
     }
-    // K: blob k of body b moves at V_b - skew(r_k - o_b) omega_b.
-    Matrix k = Matrix::Zero(3*numBlobs, 6*numBodies);
-    for (int i = 0; i < numBlobs; i++) {
-        int b = owner[i];
-        k.block<3, 3>(3*i, 6*b) = Eigen::Matrix3d::Identity();
-        k.block<3, 3>(3*i, 6*b+3) = -skew(toEigen(positions[i]-origins[b]));
-    }
-    Eigen::LLT<Matrix, Eigen::Lower> cholesky(mobility);
-    if (cholesky.info() != Eigen::Success)
-        throw OpenMMException("CoupledResistance::getResistance: the blobs' mobility matrix could not be factorised (look for nearly coincident blobs)");
-    Matrix solved = cholesky.solve(k);
-    Matrix resistance = k.transpose()*solved;
-    // Exactly symmetric, as the physics is (rounding leaves it so only to about 1e-16 relative).
     resistance = (0.5*(resistance+resistance.transpose())).eval();
     return toVector(resistance);
 }
@@ -99,4 +91,56 @@ vector<double> CoupledResistance::getMobility() const {
     Matrix mobility = cholesky.solve(Matrix::Identity(n, n));
     mobility = (0.5*(mobility+mobility.transpose())).eval();
     return toVector(mobility);
+}
+
+Eigen::MatrixXd CoupledResistanceMath::resistance(const std::string& caller, const vector<Vec3>& positions, const vector<double>& radii,
+                                                  const vector<int>& owner, const vector<Vec3>& origins) {
+    // Two bodies may hold the same sphere: M would be singular, and the message names both blobs.
+    BeadHydrodynamics::validate(caller, positions, radii);
+    const int numBlobs = positions.size();
+    const int numBodies = origins.size();
+    Eigen::MatrixXd mobility(3*numBlobs, 3*numBlobs);  // the lower triangle is enough
+    for (int i = 0; i < numBlobs; i++) {
+        for (int j = 0; j < i; j++) {
+            double block[9];
+            Vec3 d = positions[j]-positions[i];
+            RotnePragerYamakawa::mobilityBlock(d[0], d[1], d[2], radii[i], radii[j], block);
+            for (int k = 0; k < 3; k++)
+                for (int l = 0; l < 3; l++)
+                    mobility(3*i+k, 3*j+l) = block[3*k+l];
+        }
+        mobility.block<3, 3>(3*i, 3*i) = RotnePragerYamakawa::selfMobility(radii[i])*Eigen::Matrix3d::Identity();
+    }
+    // K: blob k of body b moves at V_b - skew(r_k - o_b) omega_b.
+    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(3*numBlobs, 6*numBodies);
+    for (int i = 0; i < numBlobs; i++) {
+        int b = owner[i];
+        k.block<3, 3>(3*i, 6*b) = Eigen::Matrix3d::Identity();
+        k.block<3, 3>(3*i, 6*b+3) = -skew(toEigen(positions[i]-origins[b]));
+    }
+    Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> cholesky(mobility);
+    if (cholesky.info() != Eigen::Success)
+        throw OpenMMException(caller+": the blobs' mobility matrix could not be factorised (look for nearly coincident blobs)");
+    // R = (L^-1 K)^T (L^-1 K): one triangular solve, and symmetric by construction.
+    Eigen::MatrixXd solved = cholesky.matrixL().solve(k);
+    Eigen::MatrixXd r(6*numBodies, 6*numBodies);
+    r.setZero();
+    r.selfadjointView<Eigen::Lower>().rankUpdate(solved.transpose());
+    return r.selfadjointView<Eigen::Lower>();
+}
+
+Eigen::MatrixXd CoupledResistanceMath::calibration(const std::string& caller, const Eigen::MatrixXd& blobResistance, const Eigen::MatrixXd& own) {
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> d(blobResistance);
+    Eigen::VectorXd lambda = d.eigenvalues();
+    if (!(lambda[0] > 1e-10*lambda[lambda.size()-1]))
+        throw OpenMMException(caller+": its blobs do not resist every motion it can make (the smallest eigenvalue of their resistance is "+
+                              std::to_string(lambda[0])+" of the largest "+std::to_string(lambda[lambda.size()-1])+"): give it blobs that resolve its shape");
+    Eigen::MatrixXd root = d.eigenvectors()*lambda.cwiseSqrt().asDiagonal()*d.eigenvectors().transpose();
+    Eigen::MatrixXd inverseRoot = d.eigenvectors()*lambda.cwiseSqrt().cwiseInverse().asDiagonal()*d.eigenvectors().transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> s(root*own*root);
+    if (!(s.eigenvalues()[0] > 0))
+        throw OpenMMException(caller+": its own resistance tensor is not positive definite");
+    Eigen::MatrixXd middle = s.eigenvectors()*s.eigenvalues().cwiseSqrt().asDiagonal()*s.eigenvectors().transpose();
+    Eigen::MatrixXd t = inverseRoot*middle*inverseRoot;
+    return 0.5*(t+t.transpose());
 }

@@ -196,3 +196,78 @@ TEST(CoupledResistance, RejectsBadInput) {
         EXPECT_NE(message.find("3"), std::string::npos) << message;
     }
 }
+
+TEST(CoupledResistance, CalibrationGivesALoneBodyItsOwnTensor) {
+    // setBodyResistance(): alone, a body has exactly its own tensor (here an ellipsoid's, which its
+    // five blobs resemble only roughly); calibrating to its blobs' own bead tensor changes nothing
+    // (T = I); far apart, each calibrated body is its own tensor to the coupling's square; and the
+    // calibrated R is T^T R T with T D T = Xi, T written here from eigendecompositions.
+    std::mt19937 random(7);
+    vector<Vec3> p1, p2;
+    vector<double> r1, r2;
+    someBody(random, Vec3(0.2, 0.1, -0.3), p1, r1);
+    someBody(random, Vec3(1.1, 0.4, 0.2), p2, r2);
+    ResistanceTensor own1 = ResistanceTensor::ellipsoid(0.5, 0.3, 0.2, p1[1]).rotated({0, 1, 0, -1, 0, 0, 0, 0, 1});
+    ResistanceTensor own2 = ResistanceTensor::ellipsoid(0.4, 0.35, 0.25, p2[2]);
+    Matrix6 xi1 = toMatrix6(own1.getMatrix(p1[0]));
+
+    CoupledResistance alone;
+    alone.addBody(p1, r1, p1[0]);
+    alone.setBodyResistance(0, own1);
+    EXPECT_LT(relativeDifference(toMatrix(alone.getResistance(), 6), xi1), 1e-12);
+
+    CoupledResistance plain, same, calibrated;
+    for (CoupledResistance* c : {&plain, &same, &calibrated}) {
+        c->addBody(p1, r1, p1[0]);
+        c->addBody(p2, r2, p2[0]);
+    }
+    same.setBodyResistance(0, ResistanceTensor::beads(p1, r1));
+    same.setBodyResistance(1, ResistanceTensor::beads(p2, r2));
+    calibrated.setBodyResistance(0, own1);
+    calibrated.setBodyResistance(1, own2);
+    Matrix r = toMatrix(plain.getResistance(), 12);
+    EXPECT_LT((toMatrix(same.getResistance(), 12)-r).cwiseAbs().maxCoeff(), 1e-10*r.cwiseAbs().maxCoeff());
+
+    auto power = [](const Matrix6& m, double exponent) {
+        Eigen::SelfAdjointEigenSolver<Matrix6> eigen(m);
+        return Matrix6(eigen.eigenvectors()*eigen.eigenvalues().array().pow(exponent).matrix().asDiagonal()*eigen.eigenvectors().transpose());
+    };
+    Matrix t = Matrix::Zero(12, 12);
+    Matrix6 own[2] = {xi1, toMatrix6(own2.getMatrix(p2[0]))};
+    vector<Vec3>* blobs[2] = {&p1, &p2};
+    vector<double>* radii[2] = {&r1, &r2};
+    for (int b = 0; b < 2; b++) {
+        Matrix6 d = toMatrix6(ResistanceTensor::beads(*blobs[b], *radii[b]).getMatrix((*blobs[b])[0]));
+        Matrix6 half = power(d, 0.5), inverseHalf = power(d, -0.5);
+        t.block<6, 6>(6*b, 6*b) = inverseHalf*power(half*own[b]*half, 0.5)*inverseHalf;
+        EXPECT_LT(relativeDifference(Matrix6(t.block<6, 6>(6*b, 6*b)*d*t.block<6, 6>(6*b, 6*b)), own[b]), 1e-10);
+    }
+    Matrix expected = t.transpose()*r*t;
+    EXPECT_LT((toMatrix(calibrated.getResistance(), 12)-expected).cwiseAbs().maxCoeff(), 1e-10*expected.cwiseAbs().maxCoeff());
+    EXPECT_GT(relativeDifference(Matrix6(expected.block<6, 6>(0, 0)), xi1), 0.01);  // close bodies change each other's friction
+
+    CoupledResistance far;
+    far.addBody(p1, r1, p1[0]);
+    vector<Vec3> distant = p2;
+    for (Vec3& p : distant)
+        p += Vec3(1000, 0, 0);
+    far.addBody(distant, r2, distant[0]);
+    far.setBodyResistance(0, own1);
+    Matrix farR = toMatrix(far.getResistance(), 12);
+    double difference = relativeDifference(Matrix6(farR.block<6, 6>(0, 0)), xi1);
+    EXPECT_LT(difference, 3e-6);
+    EXPECT_GT(difference, 1e-9);
+
+    // A body of one blob cannot be calibrated to a body that turns: refused, naming it.
+    CoupledResistance single;
+    single.addBody(p1, r1, p1[0]);
+    single.addBody({Vec3(3, 0, 0)}, {0.2}, Vec3(3, 0, 0));
+    single.setBodyResistance(1, ResistanceTensor::sphere(0.2, Vec3(3, 0, 0)));
+    try {
+        single.getResistance();
+        FAIL() << "a one-blob body was calibrated";
+    }
+    catch (const OpenMMException& e) {
+        EXPECT_NE(std::string(e.what()).find("body 1"), std::string::npos) << e.what();
+    }
+}

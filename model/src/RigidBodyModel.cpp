@@ -192,6 +192,13 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidBodyDescription&
         explicitOrigin[b] = description.bodies[b].resistanceOrigin;
         explicitReference[b] = description.bodies[b].resistanceReference;
     }
+    explicitBlobs.resize(numUserBodies);
+    for (int b = 0; b < numUserBodies; b++) {
+        const RigidBodyDescription::Body& body = description.bodies[b];
+        explicitBlobs[b].blobPositions = body.blobPositions;
+        explicitBlobs[b].blobRadii = body.blobRadii;
+        explicitBlobs[b].blobReference = body.blobReference;
+    }
 
     // Hydrodynamic radii: set explicitly, else sigma/2 of a NonbondedForce with nonzero epsilon.
     // A particle with mass needs one unless its body's friction is given explicitly.
@@ -302,30 +309,88 @@ bool RigidBodyModel::matchType(int type, int body, const vector<Vec3>& offsets, 
     return deviation <= GeometryTolerance;
 }
 
+Eigen::Matrix3d RigidBodyModel::fitGivenReference(int body, const vector<Vec3>& reference, const vector<Vec3>& offsets, const string& given,
+                                                  const string& placedFor, Vec3& referenceCentre) const {
+    BodyParticles particles = bodyParticles[body];
+    referenceCentre = Vec3();
+    double mass = 0;
+    for (int i = 0; i < (int) particles.size(); i++) {
+        referenceCentre += reference[i]*particleMass[particles[i]];
+        mass += particleMass[particles[i]];
+    }
+    referenceCentre /= mass;
+    vector<Vec3> referenceOffsets;
+    for (const Vec3& r : reference)
+        referenceOffsets.push_back(r-referenceCentre);
+    Eigen::Matrix3d toLab;
+    int worst;
+    double deviation = fitRotation(referenceOffsets, offsets, toLab, worst);
+    if (deviation > GeometryTolerance)
+        throw OpenMMException("RigidLangevinIntegrator: the reference positions given with "+given+" of rigid body "+std::to_string(body)+
+                " do not match its shape: particle "+std::to_string(particles[worst])+" is "+str(deviation)+" nm from its place after the best rigid "
+                "motion (tolerance "+str(GeometryTolerance)+" nm). Pass the positions of the body's particles "+placedFor+", in the order of addRigidBody()");
+    return toLab;
+}
+
+void RigidBodyModel::explicitBodyFrameBlobs(int body, const vector<Vec3>& offsets, const Eigen::Matrix3d& rotation, vector<Vec3>& coords) const {
+    // Like an explicit tensor, the blobs belong to the shape at the positions they came with.
+    const RigidBodyDescription::Body& given = explicitBlobs[body];
+    Vec3 referenceCentre;
+    Eigen::Matrix3d toLab = fitGivenReference(body, given.blobReference, offsets, "the blobs", "the blobs were placed around", referenceCentre);
+    coords.clear();
+    for (const Vec3& p : given.blobPositions)
+        coords.push_back(toVec3(rotation*toLab*toEigen(p-referenceCentre)));
+}
+
+int RigidBodyModel::getFirstBodyOfType(int type) const {
+    for (int b = 0; b < getNumBodies(); b++)
+        if (bodyType[b] == type)
+            return b;
+    throw OpenMMException("RigidBodyModel: body type "+std::to_string(type)+" has no bodies");
+}
+
+string RigidBodyModel::getBodyName(int body) const {
+    return bodyName(body, numUserBodies, bodyParticles[body]);
+}
+
+void RigidBodyModel::getTypeBlobs(int type, vector<Vec3>& coords, vector<double>& radii) const {
+    const BodyType& t = types[type];
+    int body = getFirstBodyOfType(type);
+    string name = getBodyName(body);
+    coords.clear();
+    radii.clear();
+    if (body < numUserBodies && !explicitBlobs[body].blobPositions.empty()) {
+        explicitBodyFrameBlobs(body, t.coords, Eigen::Matrix3d::Identity(), coords);
+        radii = explicitBlobs[body].blobRadii;
+    }
+    else {
+        for (int i = 0; i < (int) t.coords.size(); i++)
+            if (t.radii[i] > 0) {
+                coords.push_back(t.coords[i]);
+                radii.push_back(t.radii[i]);
+            }
+        if (coords.empty())
+            throw OpenMMException("RigidLangevinIntegrator: "+name+" has no hydrodynamic blobs for hydrodynamic interactions: none of its particles has a "
+                    "radius. Give it blobs with setBodyBlobs(), or radii with setParticleRadius()");
+    }
+    // A body that does not turn about some axis cannot carry blobs that would need it to.
+    for (const Vec3& b : coords) {
+        double off = (t.numRotations == 0 ? std::sqrt(b.dot(b)) : t.numRotations == 2 ? std::sqrt(b[1]*b[1]+b[2]*b[2]) : 0.0);
+        if (off > GeometryTolerance)
+            throw OpenMMException("RigidLangevinIntegrator: "+name+" has its mass "+(t.numRotations == 0 ? "at one point" : "on one line")+
+                    ", so it cannot turn "+(t.numRotations == 0 ? "at all" : "about its axis")+", but one of its hydrodynamic blobs is "+str(off)+
+                    " nm off that "+(t.numRotations == 0 ? "point" : "line")+". Place its blobs on it, or give the body mass off it so that it rotates");
+    }
+}
+
 Matrix6 RigidBodyModel::bodyFrameResistance(int body, const vector<Vec3>& offsets, const Vec3& centre, const double rotation[3][3]) const {
     Eigen::Matrix3d q = toMatrix3(rotation);
     BodyParticles particles = bodyParticles[body];
     if (body < numUserBodies && !explicitTensor[body].empty()) {
         // The tensor belongs to the body's shape at the reference positions it came with: about
         // their centre of mass, then turned from their frame into the body frame.
-        const vector<Vec3>& reference = explicitReference[body];
         Vec3 referenceCentre;
-        double mass = 0;
-        for (int i = 0; i < (int) particles.size(); i++) {
-            referenceCentre += reference[i]*particleMass[particles[i]];
-            mass += particleMass[particles[i]];
-        }
-        referenceCentre /= mass;
-        vector<Vec3> referenceOffsets;
-        for (const Vec3& r : reference)
-            referenceOffsets.push_back(r-referenceCentre);
-        Eigen::Matrix3d toLab;
-        int worst;
-        double deviation = fitRotation(referenceOffsets, offsets, toLab, worst);
-        if (deviation > GeometryTolerance)
-            throw OpenMMException("RigidLangevinIntegrator: the reference positions given with the resistance tensor of rigid body "+std::to_string(body)+
-                    " do not match its shape: particle "+std::to_string(particles[worst])+" is "+str(deviation)+" nm from its place after the best rigid "
-                    "motion (tolerance "+str(GeometryTolerance)+" nm). Pass the positions of the body's particles the tensor was computed for, in the order of addRigidBody()");
+        Eigen::Matrix3d toLab = fitGivenReference(body, explicitReference[body], offsets, "the resistance tensor", "the tensor was computed for", referenceCentre);
         ResistanceTensor given = ResistanceTensor::fromMatrix(explicitTensor[body], explicitOrigin[body]);
         Matrix6 xi = Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor> >(given.getMatrix(referenceCentre).data());
         return rotate(xi, q*toLab);
@@ -450,6 +515,12 @@ int RigidBodyModel::findOrCreateType(int body, const vector<Vec3>& offsets, cons
     }
     bool isExplicit = (body < numUserBodies && !explicitTensor[body].empty());
     signature.push_back(isExplicit ? 1 : 0);
+    bool hasBlobs = (body < numUserBodies && !explicitBlobs[body].blobPositions.empty());
+    if (hasBlobs) {
+        signature.push_back(explicitBlobs[body].blobRadii.size());
+        for (double r : explicitBlobs[body].blobRadii)
+            signature.push_back(r);
+    }
     auto range = typesBySignature.equal_range(signature);
     for (auto it = range.first; it != range.second; ++it) {
         double deviation;
@@ -460,6 +531,18 @@ int RigidBodyModel::findOrCreateType(int body, const vector<Vec3>& offsets, cons
             Matrix6 xi = bodyFrameResistance(body, offsets, centre, rotation);
             const Matrix6& typeXi = types[it->second].resistance;
             if ((xi-typeXi).cwiseAbs().maxCoeff() > 1e-8*typeXi.cwiseAbs().maxCoeff())
+                continue;
+        }
+        if (hasBlobs) {
+            // Identical bodies with their blobs in other places do not share a type.
+            vector<Vec3> mine, theirs;
+            vector<double> theirRadii;
+            explicitBodyFrameBlobs(body, offsets, toMatrix3(rotation), mine);
+            getTypeBlobs(it->second, theirs, theirRadii);
+            bool same = true;
+            for (int k = 0; k < (int) mine.size(); k++)
+                same = same && std::sqrt((mine[k]-theirs[k]).dot(mine[k]-theirs[k])) <= GeometryTolerance;
+            if (!same)
                 continue;
         }
         return it->second;

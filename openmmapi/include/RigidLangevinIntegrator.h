@@ -183,6 +183,65 @@ public:
         return radii;
     }
     /**
+     * Couple all bodies through the solvent (hydrodynamic interactions), or not (the default: each
+     * body feels only its own friction, as if alone in the solvent). Call this before creating a
+     * Context.
+     *
+     * With interactions, the solvent's friction and noise act on all bodies together through their
+     * coupled resistance: moving one body drags its neighbours. Each body is a set of hydrodynamic
+     * blobs (spheres fixed in it: by default its particles with a radius, see setParticleRadius();
+     * or those given with setBodyBlobs()), and the bodies' resistance is that of the rigid
+     * multiblob model (CoupledResistance: the blobs' generalised Rotne-Prager-Yamakawa mobility,
+     * overlapping and unequal blobs included), calibrated so that a body far from every other has
+     * exactly the friction it has without interactions (its bead model, or the tensor given with
+     * setBodyResistance()), whatever its blobs. The coupling between bodies is as accurate as their
+     * blobs resolve their surfaces: a single blob is a far-field (Rotne-Prager) sphere; blobs on the
+     * surface (ResistanceTensor::roughShellBeads()) converge to the exact two-body friction as they
+     * are refined. The resistance is recomputed every step, dense (Cholesky; cost (3B)^3/3 for B
+     * blobs in all), on the Reference and CPU platforms; in an unbounded solvent (a System
+     * without periodic boundary conditions).
+     *
+     * The step is BAOAB's (setScheme(BAOAB)) with the friction step the midpoint rule for all bodies
+     * at once: it keeps the Maxwell distribution of velocities exactly at any friction and step,
+     * and the long-time diffusion of a free body exact. Creating a Context or stepping with
+     * interactions under another scheme throws, as does a platform or a periodic System that does
+     * not have them yet (OpenCL, CUDA).
+     */
+    void setHydrodynamicInteractions(bool enabled);
+    /** Get whether bodies are coupled through the solvent (setHydrodynamicInteractions()). */
+    bool getHydrodynamicInteractions() const {
+        return hydrodynamicInteractions;
+    }
+    /**
+     * Give a body the hydrodynamic blobs through which it feels other bodies when hydrodynamic
+     * interactions are on (setHydrodynamicInteractions()), replacing its particles with a radius.
+     * Like an explicit tensor, the blobs belong to the body's shape: they are given together with
+     * the positions of the body's particles they were placed around, and move with the body.
+     * A body that does not rotate (its mass at one point) must have its blobs at that point, a
+     * linear body on its axis. Call this before creating a Context.
+     *
+     * @param index               the index of the body
+     * @param blobPositions       the centres of its blobs (nm), in the frame of referencePositions
+     * @param blobRadii           their radii (nm), positive
+     * @param referencePositions  the positions of the body's particles (in the order given to
+     *                            addRigidBody()) in the same frame (nm)
+     */
+    void setBodyBlobs(int index, const std::vector<OpenMM::Vec3>& blobPositions, const std::vector<double>& blobRadii,
+                      const std::vector<OpenMM::Vec3>& referencePositions);
+    /**
+     * Get the blobs given to a body with setBodyBlobs().
+     *
+     * @param index                    the index of the body
+     * @param[out] blobPositions       their centres, or empty if none were given
+     * @param[out] blobRadii           their radii
+     * @param[out] referencePositions  the positions of the body's particles they belong to
+     * @return true if the body has blobs given explicitly
+     */
+    bool getBodyBlobs(int index, std::vector<OpenMM::Vec3>& blobPositions, std::vector<double>& blobRadii,
+                      std::vector<OpenMM::Vec3>& referencePositions) const;
+    /** Remove the blobs given to a body, so that its particles with a radius are its blobs again. */
+    void clearBodyBlobs(int index);
+    /**
      * Get the number of degrees of freedom the integrator moves: 6 per rigid body (5 for a linear
      * body, 3 for a body whose mass is all at one point), plus 3 per free particle with mass.
      * This needs a Context with positions, since whether a body is linear depends on its shape.
@@ -259,14 +318,21 @@ private:
         OpenMM::Vec3 origin;
         std::vector<OpenMM::Vec3> referencePositions;
     };
+    struct BodyBlobs {
+        std::vector<OpenMM::Vec3> positions;
+        std::vector<double> radii;
+        std::vector<OpenMM::Vec3> referencePositions;
+    };
     void checkNotBound(const char* method) const;
     void checkBodyIndex(int index, const char* method) const;
     double computeTemperature(int components);
     double temperature, viscosity;
     int randomNumberSeed;
     Scheme scheme;
+    bool hydrodynamicInteractions;
     std::vector<std::vector<int> > bodies;
     std::map<int, BodyResistance> resistances;
+    std::map<int, BodyBlobs> blobs;
     std::map<int, double> radii;
     std::map<int, int> particleBody;
     mutable OpenMM::Kernel kernel;

@@ -18,7 +18,7 @@ using std::string;
 using std::vector;
 
 RigidLangevinIntegrator::RigidLangevinIntegrator(double temperature, double viscosity, double stepSize) :
-        temperature(0), viscosity(0), randomNumberSeed(0), scheme(ExactFlow) {
+        temperature(0), viscosity(0), randomNumberSeed(0), scheme(ExactFlow), hydrodynamicInteractions(false) {
     setTemperature(temperature);
     setViscosity(viscosity);
     if (!(stepSize > 0) || !std::isfinite(stepSize))
@@ -136,6 +136,56 @@ void RigidLangevinIntegrator::clearBodyResistance(int index) {
     checkNotBound("clearBodyResistance");
     checkBodyIndex(index, "clearBodyResistance");
     resistances.erase(index);
+}
+
+void RigidLangevinIntegrator::setHydrodynamicInteractions(bool enabled) {
+    checkNotBound("setHydrodynamicInteractions");
+    hydrodynamicInteractions = enabled;
+}
+
+void RigidLangevinIntegrator::setBodyBlobs(int index, const vector<Vec3>& blobPositions, const vector<double>& blobRadii, const vector<Vec3>& referencePositions) {
+    checkNotBound("setBodyBlobs");
+    checkBodyIndex(index, "setBodyBlobs");
+    string what = "RigidLangevinIntegrator::setBodyBlobs: rigid body "+std::to_string(index);
+    if (blobPositions.empty())
+        throw OpenMMException(what+": no blobs were given (clearBodyBlobs() makes its particles with a radius its blobs again)");
+    if (blobRadii.size() != blobPositions.size())
+        throw OpenMMException(what+": "+std::to_string(blobPositions.size())+" blob positions but "+std::to_string(blobRadii.size())+" radii");
+    for (int k = 0; k < (int) blobPositions.size(); k++) {
+        if (!std::isfinite(blobPositions[k][0]) || !std::isfinite(blobPositions[k][1]) || !std::isfinite(blobPositions[k][2]))
+            throw OpenMMException(what+": the position of blob "+std::to_string(k)+" is not finite");
+        if (!(blobRadii[k] > 0) || !std::isfinite(blobRadii[k]))
+            throw OpenMMException(what+": blob "+std::to_string(k)+" has radius "+std::to_string(blobRadii[k])+" nm; a blob's radius must be positive and finite");
+    }
+    if (referencePositions.size() != bodies[index].size())
+        throw OpenMMException(what+": the blobs need the positions of the body's "+std::to_string(bodies[index].size())+" particles they were placed around, got "+
+                std::to_string(referencePositions.size())+" positions");
+    for (int i = 0; i < (int) referencePositions.size(); i++)
+        for (int k = 0; k < 3; k++)
+            if (!std::isfinite(referencePositions[i][k]))
+                throw OpenMMException(what+": reference position "+std::to_string(i)+" (particle "+std::to_string(bodies[index][i])+") is not finite");
+    blobs[index] = {blobPositions, blobRadii, referencePositions};
+}
+
+bool RigidLangevinIntegrator::getBodyBlobs(int index, vector<Vec3>& blobPositions, vector<double>& blobRadii, vector<Vec3>& referencePositions) const {
+    checkBodyIndex(index, "getBodyBlobs");
+    auto b = blobs.find(index);
+    if (b == blobs.end()) {
+        blobPositions.clear();
+        blobRadii.clear();
+        referencePositions.clear();
+        return false;
+    }
+    blobPositions = b->second.positions;
+    blobRadii = b->second.radii;
+    referencePositions = b->second.referencePositions;
+    return true;
+}
+
+void RigidLangevinIntegrator::clearBodyBlobs(int index) {
+    checkNotBound("clearBodyBlobs");
+    checkBodyIndex(index, "clearBodyBlobs");
+    blobs.erase(index);
 }
 
 void RigidLangevinIntegrator::setParticleRadius(int particle, double radius) {

@@ -70,6 +70,22 @@ def resistance_result(result):
     return matrix6(values), unit.Quantity(openmm.Vec3(*origin), unit.nanometer), vectors_in_nm(reference)
 
 
+def lengths_in_nm(lengths):
+    """Floats in nm from a Quantity (of a sequence or an array) of lengths, or from numbers taken as nm."""
+    if unit.is_quantity(lengths):
+        lengths = lengths.value_in_unit(unit.nanometer)
+    return [v.value_in_unit(unit.nanometer) if unit.is_quantity(v) else float(v) for v in lengths]
+
+
+def blobs_result(result):
+    """(centres (N, 3), radii (N,), reference positions (M, 3)), each a Quantity in nm, from the
+    wrapper's ([(x, y, z)], [radius], [(x, y, z)]), or None."""
+    if result is None:
+        return None
+    centres, radii, reference = result
+    return vectors_in_nm(centres), unit.Quantity(np.array(radii, dtype=float), unit.nanometer), vectors_in_nm(reference)
+
+
 def vectors_in_nm(vectors):
     """A list of Vec3 (nm) as a Quantity-wrapped (N, 3) numpy array."""
     return unit.Quantity(np.array([[v[0], v[1], v[2]] for v in vectors], dtype=float).reshape(-1, 3), unit.nanometer)

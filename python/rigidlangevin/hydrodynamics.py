@@ -30,6 +30,8 @@ __all__ = ['ResistanceTensor', 'CoupledResistance', 'coupledResistance', 'couple
            'roughShellBeads', 'shellExtrapolated', 'spheroidRoughShell', 'spheroidRoughShellBeads', 'spheroidShellExtrapolated',
            'freeDrainingBeads', 'explicit', 'protein', 'HYDROPRO_ATOMIC_RADIUS', 'diffusionConstants']
 
+from ._units import lengths_in_nm as _lengths
+
 
 def _length(value):
     return value.value_in_unit(unit.nanometer) if unit.is_quantity(value) else float(value)
@@ -42,12 +44,6 @@ def _vectors(positions):
     if array.ndim != 2 or array.shape[1] != 3:
         raise ValueError(f'positions must be N x 3, got shape {array.shape}')
     return [mm.Vec3(*p) for p in array]
-
-
-def _lengths(radii):
-    if unit.is_quantity(radii):
-        radii = radii.value_in_unit(unit.nanometer)
-    return [_length(r) for r in radii]
 
 
 def _point(point):
@@ -150,17 +146,23 @@ def explicit(matrix, origin=(0, 0, 0)):
     return ResistanceTensor.explicit(matrix, _point(origin))
 
 
-def _coupled(bodies):
+def _coupled(bodies, own):
     coupled = CoupledResistance()
     for body in bodies:
         if len(body) != 3:
             raise ValueError('each body is (blob positions, blob radii, reference point)')
         positions, radii, origin = body
         coupled.addBody(_vectors(positions), _lengths(radii), _point(origin))
+    if own is not None:
+        if len(own) != len(bodies):
+            raise ValueError(f'own gives {len(own)} tensors for {len(bodies)} bodies (None for a body without one)')
+        for body, tensor in enumerate(own):
+            if tensor is not None:
+                coupled.setBodyResistance(body, tensor)
     return coupled
 
 
-def coupledResistance(bodies):
+def coupledResistance(bodies, own=None):
     """The resistance per unit viscosity of several bodies that feel each other through the solvent
     (see CoupledResistance): a (6N, 6N) numpy array, body by body in the order given, each with its
     velocity (of its reference point) first and its angular velocity second; blocks in nm, nm^2, nm^3.
@@ -171,15 +173,19 @@ def coupledResistance(bodies):
 
         xi = hydro.coupledResistance([(blobs1, radii1, centre1), (blobs2, radii2, centre2)])
         xi[:6, 6:]    # how body 2's motion drags body 1
+
+    own: optionally, per body, the ResistanceTensor it has alone (or None to keep its blobs'), each
+    given in the frame the body is in now: the body's blocks are then calibrated to it (see
+    CoupledResistance.setBodyResistance), as the integrator does with hydrodynamic interactions on.
     """
-    return _coupled(bodies).getResistance()
+    return _coupled(bodies, own).getResistance()
 
 
-def coupledMobility(bodies):
-    """The inverse of coupledResistance(bodies): (velocities, angular velocities) = mobility
+def coupledMobility(bodies, own=None):
+    """The inverse of coupledResistance(bodies, own): (velocities, angular velocities) = mobility
     (forces, torques) / viscosity. Refused, naming the body, where a body cannot rotate about some
     axis (one blob, or blobs on one line)."""
-    return _coupled(bodies).getMobility()
+    return _coupled(bodies, own).getMobility()
 
 
 #: HYDROPRO's atomic element radius (AER) for atomic-level models: each non-hydrogen atom becomes a

@@ -17,8 +17,18 @@ const SerializationNode* findChild(const SerializationNode& node, const std::str
     return NULL;
 }
 
-/** 2: an explicit tensor comes with the positions of the body's particles it belongs to. */
-const int Version = 2;
+/** 2: an explicit tensor comes with the positions of the body's particles it belongs to.
+ *  3: hydrodynamic interactions (on or off) and bodies' explicit blobs. Version 2 is read as
+ *     without interactions and blobs, which is what it described. */
+const int Version = 3;
+
+SerializationNode& writePosition(SerializationNode& node, const Vec3& r) {
+    return node.setDoubleProperty("x", r[0]).setDoubleProperty("y", r[1]).setDoubleProperty("z", r[2]);
+}
+
+Vec3 readPosition(const SerializationNode& node) {
+    return Vec3(node.getDoubleProperty("x"), node.getDoubleProperty("y"), node.getDoubleProperty("z"));
+}
 
 } // namespace
 
@@ -45,21 +55,32 @@ void RigidLangevinIntegratorProxy::serialize(const void* object, SerializationNo
         vector<Vec3> reference;
         if (integrator.getBodyResistance(b, tensor, origin, reference)) {
             SerializationNode& resistance = body.createChildNode("Resistance");
-            resistance.setDoubleProperty("x", origin[0]).setDoubleProperty("y", origin[1]).setDoubleProperty("z", origin[2]);
+            writePosition(resistance, origin);
             for (double value : tensor)
                 resistance.createChildNode("Value").setDoubleProperty("v", value);
             for (const Vec3& r : reference)
-                resistance.createChildNode("ReferencePosition").setDoubleProperty("x", r[0]).setDoubleProperty("y", r[1]).setDoubleProperty("z", r[2]);
+                writePosition(resistance.createChildNode("ReferencePosition"), r);
+        }
+        vector<Vec3> blobPositions;
+        vector<double> blobRadii;
+        if (integrator.getBodyBlobs(b, blobPositions, blobRadii, reference)) {
+            SerializationNode& blobs = body.createChildNode("Blobs");
+            for (int i = 0; i < (int) blobPositions.size(); i++)
+                writePosition(blobs.createChildNode("Blob"), blobPositions[i]).setDoubleProperty("radius", blobRadii[i]);
+            for (const Vec3& r : reference)
+                writePosition(blobs.createChildNode("ReferencePosition"), r);
         }
     }
+    node.setBoolProperty("hydrodynamicInteractions", integrator.getHydrodynamicInteractions());
     SerializationNode& radii = node.createChildNode("Radii");
     for (auto& r : integrator.getParticleRadii())
         radii.createChildNode("Particle").setIntProperty("index", r.first).setDoubleProperty("radius", r.second);
 }
 
 void* RigidLangevinIntegratorProxy::deserialize(const SerializationNode& node) const {
-    if (node.getIntProperty("version") != Version)
-        throw OpenMMException("RigidLangevinIntegratorProxy: unsupported version number "+std::to_string(node.getIntProperty("version"))+" (this plugin reads "+
+    int version = node.getIntProperty("version");
+    if (version != Version && version != 2)
+        throw OpenMMException("RigidLangevinIntegratorProxy: unsupported version number "+std::to_string(version)+" (this plugin reads 2 and "+
                 std::to_string(Version)+"; version 1 tied explicit tensors to whatever positions a Context first had)");
     std::unique_ptr<RigidLangevinIntegrator> integrator(new RigidLangevinIntegrator(node.getDoubleProperty("temperature"),
             node.getDoubleProperty("viscosity"), node.getDoubleProperty("stepSize")));
@@ -82,12 +103,27 @@ void* RigidLangevinIntegratorProxy::deserialize(const SerializationNode& node) c
                 if (child.getName() == "Value")
                     tensor.push_back(child.getDoubleProperty("v"));
                 else if (child.getName() == "ReferencePosition")
-                    reference.push_back(Vec3(child.getDoubleProperty("x"), child.getDoubleProperty("y"), child.getDoubleProperty("z")));
+                    reference.push_back(readPosition(child));
             }
-            Vec3 origin(resistance.getDoubleProperty("x"), resistance.getDoubleProperty("y"), resistance.getDoubleProperty("z"));
-            integrator->setBodyResistance(index, tensor, origin, reference);
+            integrator->setBodyResistance(index, tensor, readPosition(resistance), reference);
+        }
+        const SerializationNode* blobsNode = findChild(body, "Blobs");
+        if (blobsNode != NULL) {
+            vector<Vec3> positions, reference;
+            vector<double> radii;
+            for (const SerializationNode& child : blobsNode->getChildren()) {
+                if (child.getName() == "Blob") {
+                    positions.push_back(readPosition(child));
+                    radii.push_back(child.getDoubleProperty("radius"));
+                }
+                else if (child.getName() == "ReferencePosition")
+                    reference.push_back(readPosition(child));
+            }
+            integrator->setBodyBlobs(index, positions, radii, reference);
         }
     }
+    if (version >= 3)
+        integrator->setHydrodynamicInteractions(node.getBoolProperty("hydrodynamicInteractions"));
     for (const SerializationNode& r : node.getChildNode("Radii").getChildren())
         integrator->setParticleRadius(r.getIntProperty("index"), r.getDoubleProperty("radius"));
     return integrator.release();

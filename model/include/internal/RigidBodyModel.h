@@ -177,6 +177,17 @@ public:
      * whole lines; Cached otherwise.
      */
     ParticleStores chooseParticleStores(long long cacheBytes) const;
+    /**
+     * The hydrodynamic blobs of a body type in its frame (nm): those given with setBodyBlobs() to its
+     * bodies, or else its particles with a radius. Throws an OpenMMException naming a body whose
+     * blobs it cannot carry (off the point of a body that does not rotate, off the axis of a linear
+     * one) or that has none.
+     */
+    void getTypeBlobs(int type, std::vector<OpenMM::Vec3>& coords, std::vector<double>& radii) const;
+    /** The name of a body in messages: "rigid body 3", or "free particle 40" for a particle in no body. */
+    std::string getBodyName(int body) const;
+    /** The first body of a type. */
+    int getFirstBodyOfType(int type) const;
     /** Total degrees of freedom, translational ones (3 per body) and rotational ones. */
     int getNumDegreesOfFreedom() const;
     int getNumTranslationalDegreesOfFreedom() const {
@@ -202,6 +213,14 @@ private:
     int findOrCreateType(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, double rotation[3][3]);
     bool matchType(int type, int body, const std::vector<OpenMM::Vec3>& offsets, double rotation[3][3], double& deviation, int& worst) const;
     int createType(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, double rotation[3][3]);
+    /** The explicit blobs of a body in the frame with rotation (lab to frame) where its particles' offsets from the centre of mass are offsets. */
+    /** The rotation from the frame of positions given with a body's tensor or blobs (reference, with
+     *  their centre of mass) to its offsets now; refused, naming given and what it was placedFor,
+     *  where they are not the body's shape. */
+    Eigen::Matrix3d fitGivenReference(int body, const std::vector<OpenMM::Vec3>& reference, const std::vector<OpenMM::Vec3>& offsets,
+                                      const std::string& given, const std::string& placedFor, OpenMM::Vec3& referenceCentre) const;
+    void explicitBodyFrameBlobs(int body, const std::vector<OpenMM::Vec3>& offsets, const Eigen::Matrix3d& rotation,
+                                std::vector<OpenMM::Vec3>& coords) const;
     Matrix6 bodyFrameResistance(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, const double rotation[3][3]) const;
     std::vector<OpenMM::Vec3> unwrappedOffsets(int body, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, OpenMM::Vec3& centre) const;
     /** Throw if, in the positions that define the shapes, any body's particles lie more than half a box apart. */
@@ -216,6 +235,7 @@ private:
     std::vector<std::vector<double> > explicitTensor;  // per user body, empty if none
     std::vector<OpenMM::Vec3> explicitOrigin;
     std::vector<std::vector<OpenMM::Vec3> > explicitReference;  // the positions each explicit tensor belongs to
+    std::vector<RigidBodyDescription::Body> explicitBlobs;  // per user body: blobs given with setBodyBlobs(), or none
     std::vector<BodyType> types;
     std::vector<int> bodyType;
     std::multimap<std::vector<double>, int> typesBySignature;

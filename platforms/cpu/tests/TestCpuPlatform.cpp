@@ -24,16 +24,22 @@ namespace {
  * 300 asymmetric bodies and 100 free particles in a harmonic well (a per-particle force, which the
  * CPU platform computes the same way whatever its threads), with friction and noise.
  */
-State run(const std::string& threads, int seed, RigidLangevinIntegrator::Scheme scheme, const std::string& platform = "CPU") {
+State run(const std::string& threads, int seed, RigidLangevinIntegrator::Scheme scheme, const std::string& platform = "CPU",
+          bool hydrodynamicInteractions = false) {
     BodyShape shape = asymmetricBody();
+    // With hydrodynamic interactions, fewer bodies and blobs (three of each body's particles; the
+    // dense coupled friction's cost grows as the cube of the blobs), still enough bodies that the
+    // kernel runs threaded.
+    const int numBodies = (hydrodynamicInteractions ? 210 : 300), numFree = (hydrodynamicInteractions ? 0 : 100);
     System system;
     CustomExternalForce* well = new CustomExternalForce("5*(x^2+y^2+z^2)");
     system.addForce(well);
     RigidLangevinIntegrator integrator(300, 100.0, 0.002);
     integrator.setScheme(scheme);
     integrator.setRandomNumberSeed(seed);
+    integrator.setHydrodynamicInteractions(hydrodynamicInteractions);
     std::vector<Vec3> positions;
-    for (int b = 0; b < 300; b++) {
+    for (int b = 0; b < numBodies; b++) {
         Eigen::Matrix3d r = Eigen::AngleAxisd(0.1*b, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
         Eigen::Vector3d center(0.5*(b%10), 0.5*((b/10)%10), 0.5*(b/100));
         std::vector<int> particles;
@@ -43,7 +49,7 @@ State run(const std::string& threads, int seed, RigidLangevinIntegrator::Scheme 
         }
         integrator.addRigidBody(particles);
     }
-    for (int i = 0; i < 100; i++) {
+    for (int i = 0; i < numFree; i++) {
         system.addParticle(20.0);
         positions.push_back(Vec3(0.5*(i%10), 0.5*(i/10), 2.0));
     }
@@ -51,13 +57,18 @@ State run(const std::string& threads, int seed, RigidLangevinIntegrator::Scheme 
         well->addParticle(i);
         integrator.setParticleRadius(i, 0.1);
     }
+    if (hydrodynamicInteractions)
+        for (int b = 0; b < numBodies; b++) {
+            std::vector<Vec3> bodyPositions(positions.begin()+4*b, positions.begin()+4*b+4);
+            integrator.setBodyBlobs(b, {bodyPositions[0], bodyPositions[1], bodyPositions[2]}, {0.1, 0.1, 0.1}, bodyPositions);
+        }
     std::map<std::string, std::string> properties;
     if (platform == "CPU")
         properties["Threads"] = threads;
     Context context(system, integrator, Platform::getPlatformByName(platform), properties);
     context.setPositions(positions);
     context.setVelocitiesToTemperature(300, 5);
-    integrator.step(200);
+    integrator.step(hydrodynamicInteractions ? 3 : 200);
     return context.getState(State::Positions | State::Velocities);
 }
 
@@ -79,6 +90,16 @@ TEST(CpuPlatform, DeterministicForASeedAndAnyNumberOfThreads) {
         EXPECT_TRUE(identical(first, run("3", 11, scheme).getPositions())) << "same seed, three threads";
         EXPECT_FALSE(identical(first, run("2", 12, scheme).getPositions())) << "another seed";
     }
+}
+
+TEST(CpuPlatform, HydrodynamicInteractionsDeterministicForAnyNumberOfThreads) {
+    // Coupled through the solvent, the bodies' noise is drawn for all of them at once: the
+    // trajectory is still fixed by the seed, whatever the threads.
+    const RigidLangevinIntegrator::Scheme scheme = RigidLangevinIntegrator::BAOAB;
+    std::vector<Vec3> first = run("2", 11, scheme, "CPU", true).getPositions();
+    EXPECT_TRUE(identical(first, run("1", 11, scheme, "CPU", true).getPositions())) << "same seed, one thread";
+    EXPECT_TRUE(identical(first, run("3", 11, scheme, "CPU", true).getPositions())) << "same seed, three threads";
+    EXPECT_FALSE(identical(first, run("2", 12, scheme, "CPU", true).getPositions())) << "another seed";
 }
 
 TEST(CpuPlatform, StreamingParticleStoresPlaceTheSameParticles) {

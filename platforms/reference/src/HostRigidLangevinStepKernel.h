@@ -5,6 +5,7 @@
 #include "HostParticleStores.h"
 #include "ReferencePlatform.h"
 #include "ReferenceVirtualSites.h"
+#include "openmm/reference/SimTKOpenMMRealType.h"
 #include "internal/BodyDynamics.h"
 #include "internal/RigidLangevinStepKernelBase.h"
 #include "openmm/internal/ContextImpl.h"
@@ -88,6 +89,9 @@ protected:
     void uploadCoefficients(OpenMM::ContextImpl& context, const std::vector<TypeStepCoefficients>& c) {
         // The base class keeps them in `coefficients`; they are read in place.
     }
+    bool supportsHydrodynamicInteractions() const {
+        return true;
+    }
     void takeStep(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, bool removeMotion) {
         const double h = integrator.getStepSize();
         OpenMM::Vec3 centerOfMassVelocity;
@@ -95,10 +99,14 @@ protected:
             centerOfMassVelocity = computeMomentum()/model->getTotalMass();
         const RigidLangevinIntegrator::Scheme scheme = integrator.getScheme();
         const bool frictionless = (integrator.getViscosity() == 0);
-        // One pass per body: forces, kick, flow and placing its particles, while the body is in cache.
-        forEachChunk([&] (int chunk, int begin, int end) {
-            advanceBodies(begin, end, random[chunk]->random, scheme, h, frictionless, removeMotion, centerOfMassVelocity);
-        });
+        if (interactions && !frictionless)
+            takeCoupledStep(integrator, removeMotion, centerOfMassVelocity);
+        else {
+            // One pass per body: forces, kick, flow and placing its particles, while the body is in cache.
+            forEachChunk([&] (int chunk, int begin, int end) {
+                advanceBodies(begin, end, random[chunk]->random, scheme, h, frictionless, removeMotion, centerOfMassVelocity);
+            });
+        }
         // Placing the bodies placed their sites; OpenMM's computePositions, which places every
         // site from its parents (about a tenth of a step of four-site water bodies), is for the others.
         if (model->hasSitesOutsideBodies())
@@ -142,6 +150,43 @@ protected:
     OpenMM::ReferencePlatform::PlatformData& data;
     std::vector<std::unique_ptr<RandomStream> > random;  // one per chunk
 private:
+    /**
+     * BAOAB with hydrodynamic interactions: every body's kick and half drift, the friction step of
+     * all bodies at once (the midpoint rule with their coupled resistance at the half-drifted
+     * positions, dense, with the first chunk's random numbers so that a trajectory does not depend
+     * on the number of threads), then every body's second half drift.
+     */
+    void takeCoupledStep(const RigidLangevinIntegrator& integrator, bool removeMotion, OpenMM::Vec3 centerOfMassVelocity) {
+        const double h = integrator.getStepSize();
+        std::vector<BodyState> states(bodies.size());
+        forEachChunk([&] (int chunk, int begin, int end) {
+            for (int b = begin; b < end; b++) {
+                const BodyType& type = model->getType(model->getBodyType(b));
+                BodyState& s = states[b];
+                s = bodies.load(b);
+                if (removeMotion)
+                    s.velocity -= centerOfMassVelocity;
+                OpenMM::Vec3 force, torque;
+                computeBodyForce(b, s, force, torque);
+                BodyDynamics::kick(s, type, force, torque, h);
+                BodyDynamics::drift(s, type, 0.5*h);
+            }
+        });
+        Eigen::MatrixXd resistance = interactions->computeResistance(states);
+        Eigen::VectorXd u = interactions->getVelocities(states);
+        Eigen::VectorXd normals(u.size());
+        for (int i = 0; i < u.size(); i++)
+            normals[i] = random[0]->random.next();
+        midpointFrictionStep(resistance, interactions->getMasses(), integrator.getViscosity(), BOLTZ*integrator.getTemperature(), h, normals, u);
+        interactions->setVelocities(u, states);
+        forEachChunk([&] (int chunk, int begin, int end) {
+            for (int b = begin; b < end; b++) {
+                BodyDynamics::drift(states[b], model->getType(model->getBodyType(b)), 0.5*h);
+                bodies.store(b, states[b]);
+                model->placeBodyParticles(b, states[b], *data.positions, *data.velocities);
+            }
+        });
+    }
     /** Advance bodies [begin, end) by one step, drawing from rng (in two builds: RIGIDLANGEVIN_HOST_CLONES). */
     RIGIDLANGEVIN_HOST_CLONES
     void advanceBodies(int begin, int end, Random& rng, RigidLangevinIntegrator::Scheme scheme, double h, bool frictionless,

@@ -15,7 +15,7 @@ using std::vector;
 
 RigidLangevinStepKernelBase::RigidLangevinStepKernelBase(std::string name, const Platform& platform) :
         IntegrateRigidLangevinStepKernel(name, platform), removerFrequency(0), removerIndex(-1), bodiesInitialized(false), particlesChanged(true),
-        ignoreStateChanges(false), positionsSet(false) {
+        ignoreStateChanges(false), positionsSet(false), interactionsEnabled(false) {
     for (double& p : coefficientParameters)
         p = std::numeric_limits<double>::quiet_NaN();
 }
@@ -40,8 +40,10 @@ RigidBodyDescription describeBodies(const RigidLangevinIntegrator& integrator) {
         RigidBodyDescription::Body& body = description.bodies[b];
         body.particles = integrator.getRigidBodyParticles(b);
         integrator.getBodyResistance(b, body.resistance, body.resistanceOrigin, body.resistanceReference);
+        integrator.getBodyBlobs(b, body.blobPositions, body.blobRadii, body.blobReference);
     }
     description.particleRadii = integrator.getParticleRadii();
+    description.hydrodynamicInteractions = integrator.getHydrodynamicInteractions();
     return description;
 }
 
@@ -57,6 +59,27 @@ void RigidLangevinStepKernelBase::initialize(const System& system, const RigidLa
         }
     }
     checkMotionRemover(integrator.getViscosity());
+    interactionsEnabled = integrator.getHydrodynamicInteractions();
+    if (interactionsEnabled) {
+        if (!supportsHydrodynamicInteractions())
+            throw OpenMMException("RigidLangevinIntegrator: hydrodynamic interactions are not yet available on the "+getPlatform().getName()+
+                    " platform; use the Reference or CPU platform, or setHydrodynamicInteractions(false)");
+        if (system.usesPeriodicBoundaryConditions())
+            throw OpenMMException("RigidLangevinIntegrator: hydrodynamic interactions are not yet available in a periodic box (the System uses periodic "
+                    "boundary conditions); they couple bodies in an unbounded solvent");
+        checkInteractionScheme(integrator);
+    }
+}
+
+void RigidLangevinStepKernelBase::checkInteractionScheme(const RigidLangevinIntegrator& integrator) const {
+    if (interactionsEnabled && integrator.getViscosity() != 0 && integrator.getScheme() != RigidLangevinIntegrator::BAOAB)
+        throw OpenMMException("RigidLangevinIntegrator: hydrodynamic interactions are integrated with the BAOAB scheme, whose friction step couples all "
+                "bodies at once; call setScheme(RigidLangevinIntegrator::BAOAB) (in Python, rigidlangevin.RigidLangevinIntegrator.BAOAB)");
+}
+
+void RigidLangevinStepKernelBase::initializeInteractions() {
+    if (interactionsEnabled)
+        interactions.reset(new HydrodynamicInteractions(*model));
 }
 
 void RigidLangevinStepKernelBase::checkMotionRemover(double viscosity) const {
@@ -102,6 +125,7 @@ void RigidLangevinStepKernelBase::updateBodies(ContextImpl& context) {
     bool periodic = context.getSystem().usesPeriodicBoundaryConditions();
     vector<BodyState> states = model->fitStates(positions, velocities, periodic ? box : NULL);
     if (!bodiesInitialized) {
+        initializeInteractions();
         initializeBodies(context, *model);
         bodiesInitialized = true;
     }
@@ -118,6 +142,7 @@ void RigidLangevinStepKernelBase::updateCoefficients(ContextImpl& context, const
     if (!changed)
         return;
     checkMotionRemover(parameters[1]);
+    checkInteractionScheme(integrator);
     vector<TypeStepCoefficients> newCoefficients = computeStepCoefficients(*model, stepScheme(integrator), parameters[0], parameters[1], parameters[2]);
     if (integrator.getScheme() == RigidLangevinIntegrator::Original)
         checkOriginalSchemeStability(*model, newCoefficients, parameters[2]);
@@ -181,6 +206,7 @@ void RigidLangevinStepKernelBase::installRestoredBodies(ContextImpl& context, co
             throw OpenMMException("RigidLangevinIntegrator: the restored state of body "+std::to_string(b)+" is corrupt (a value is not finite or its "
                     "rotation is not orthonormal)");
     }
+    initializeInteractions();
     initializeBodies(context, *model);
     bodiesInitialized = true;
     uploadBodyStates(context, states);

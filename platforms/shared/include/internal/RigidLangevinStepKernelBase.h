@@ -2,6 +2,7 @@
 #define RIGID_LANGEVIN_STEP_KERNEL_BASE_H_
 
 #include "RigidLangevinKernels.h"
+#include "internal/HydrodynamicInteractions.h"
 #include "internal/RigidBodyModel.h"
 #include "internal/StepCoefficients.h"
 #include "internal/windowsExportRigidLangevin.h"
@@ -54,19 +55,32 @@ protected:
     /** Write and read the state of the random number generator. */
     virtual void createRandomCheckpoint(std::ostream& stream) = 0;
     virtual void loadRandomCheckpoint(std::istream& stream) = 0;
+    /**
+     * Whether this platform couples bodies through the solvent (RigidLangevinIntegrator::
+     * setHydrodynamicInteractions()); a Context with interactions on a platform without them is refused.
+     */
+    virtual bool supportsHydrodynamicInteractions() const {
+        return false;
+    }
     /** Fit the bodies to the particles if those were set from outside since the last step. */
     void updateBodies(OpenMM::ContextImpl& context);
     std::unique_ptr<RigidBodyModel> model;
     std::vector<TypeStepCoefficients> coefficients;
+    /** The bodies' coupling through the solvent, once their types exist; null without hydrodynamic interactions. */
+    std::unique_ptr<HydrodynamicInteractions> interactions;
     int removerFrequency, removerIndex;
 private:
     void updateCoefficients(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator);
     /** Refuse a CMMotionRemover at a nonzero viscosity (with an OpenMMException that says why and how to leave it out). */
     void checkMotionRemover(double viscosity) const;
+    /** Refuse hydrodynamic interactions with a scheme other than BAOAB while there is friction. */
+    void checkInteractionScheme(const RigidLangevinIntegrator& integrator) const;
+    /** Build the bodies' coupling from the model's types, if interactions are on. */
+    void initializeInteractions();
     /** Set up the kernel's storage for types just restored into the model, then place the bodies from states. */
     void installRestoredBodies(OpenMM::ContextImpl& context, const std::vector<BodyState>& states);
     double coefficientParameters[4];
-    bool bodiesInitialized, particlesChanged, ignoreStateChanges, positionsSet;
+    bool bodiesInitialized, particlesChanged, ignoreStateChanges, positionsSet, interactionsEnabled;
 };
 
 } // namespace RigidLangevinPlugin

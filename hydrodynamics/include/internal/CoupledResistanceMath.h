@@ -1,0 +1,45 @@
+#ifndef RIGID_LANGEVIN_COUPLED_RESISTANCE_MATH_H_
+#define RIGID_LANGEVIN_COUPLED_RESISTANCE_MATH_H_
+
+#include "openmm/Vec3.h"
+#include "internal/windowsExportHydrodynamics.h"
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace RigidLangevinPlugin {
+
+/**
+ * The dense algebra of bodies coupled through the solvent (CoupledResistance), for the classes and
+ * kernels that build on it: the integrator's model and the host platforms apply exactly these.
+ */
+namespace CoupledResistanceMath {
+
+/**
+ * R = K^T M^-1 K per unit viscosity (lab frame; see CoupledResistance) for blobs at positions with
+ * radii, blob k belonging to body owner[k], the bodies' reference points at origins. Throws an
+ * OpenMMException, beginning with caller, naming two blobs that are the same sphere or one that is
+ * not finite, or if M cannot be factorised.
+ */
+OPENMM_EXPORT_HYDRODYNAMICS Eigen::MatrixXd resistance(const std::string& caller, const std::vector<OpenMM::Vec3>& positions,
+                                                       const std::vector<double>& radii, const std::vector<int>& owner,
+                                                       const std::vector<OpenMM::Vec3>& origins);
+
+/**
+ * The calibration of a body whose blobs alone have resistance D (blobResistance) but whose own
+ * friction is Xi (own), both symmetric positive definite and of the same size: the symmetric
+ * positive definite T with T D T = Xi,
+ *
+ *     T = D^-1/2 (D^1/2 Xi D^1/2)^1/2 D^-1/2   (the identity when D = Xi).
+ *
+ * Coupled bodies then have the resistance T^T R T (T block-diagonal over the bodies): a congruence,
+ * so it stays symmetric positive definite for every configuration; a lone body has exactly Xi; and
+ * as the blobs resolve the body (D -> Xi) it becomes R itself. Throws an OpenMMException beginning
+ * with caller if D or Xi is not positive definite.
+ */
+OPENMM_EXPORT_HYDRODYNAMICS Eigen::MatrixXd calibration(const std::string& caller, const Eigen::MatrixXd& blobResistance, const Eigen::MatrixXd& own);
+
+} // namespace CoupledResistanceMath
+} // namespace RigidLangevinPlugin
+
+#endif /*RIGID_LANGEVIN_COUPLED_RESISTANCE_MATH_H_*/

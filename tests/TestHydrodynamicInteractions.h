@@ -1,0 +1,474 @@
+/*
+ * Bodies coupled through the solvent (RigidLangevinIntegrator::setHydrodynamicInteractions), against
+ * answers computed here independently of the integrator's code path:
+ *  - one step at zero temperature is the midpoint rule with the bodies' coupled resistance, which
+ *    the hydrodynamics library's CoupledResistance computes from the same blobs and each body's own
+ *    bead tensor (to round-off); bodies far apart move with their own friction (within the
+ *    size/distance coupling left), close ones do not;
+ *  - two spheres of one blob each settle under equal forces at the velocity their
+ *    Rotne-Prager-Yamakawa mobility gives, side by side, in line and overlapping (the formula written
+ *    out here, to round-off);
+ *  - the random momenta of one step have the covariance the midpoint rule gives with 2 kT R / h
+ *    noise, eigenmode by eigenmode (a factor 2 in the noise's variance fails);
+ *  - with interactions, velocities stay Maxwell's and positions Boltzmann's: translational and
+ *    rotational temperatures and the potential energy of bodies in harmonic traps close together
+ *    equal their exact values (interactions change dynamics, never statics).
+ * On the platforms that do not have interactions yet (OpenCL, CUDA) creating the Context is refused.
+ */
+#include "CoupledResistance.h"
+#include "ResistanceTensor.h"
+#include "RigidBodyTestUtilities.h"
+#include "openmm/CustomExternalForce.h"
+#include "openmm/NonbondedForce.h"
+#include "openmm/OpenMMException.h"
+#include <gtest/gtest.h>
+#include <sstream>
+#include <memory>
+#include <random>
+
+using namespace OpenMM;
+using namespace RigidLangevinPlugin;
+using namespace RigidBodyTest;
+
+namespace {
+
+typedef Eigen::MatrixXd Matrix;
+
+const double BlobRadius = 0.06;
+
+/** Bodies of the asymmetric shape, each turned at random, centred at the given points. */
+struct Cluster {
+    System system;
+    std::vector<Vec3> positions;
+    std::vector<int> firstParticle;
+    BodyShape shape = asymmetricBody();
+
+    Cluster(RigidLangevinIntegrator& integrator, const std::vector<Vec3>& centres, unsigned seed) {
+        std::mt19937 random(seed);
+        std::normal_distribution<double> normal;
+        for (const Vec3& c : centres) {
+            Eigen::Quaterniond q(normal(random), normal(random), normal(random), normal(random));
+            Eigen::Matrix3d a = q.normalized().toRotationMatrix();
+            Eigen::Vector3d com = Eigen::Vector3d::Zero();
+            for (int i = 0; i < (int) shape.masses.size(); i++)
+                com += shape.masses[i]*shape.reference[i]/shape.mass;
+            std::vector<int> particles;
+            firstParticle.push_back(system.getNumParticles());
+            for (int i = 0; i < (int) shape.masses.size(); i++) {
+                particles.push_back(system.addParticle(shape.masses[i]));
+                integrator.setParticleRadius(particles.back(), BlobRadius);
+                positions.push_back(c+toVec3(a*(shape.reference[i]-com)));
+            }
+            int body = integrator.addRigidBody(particles);
+            // An explicit tensor, so that the one computed here is the integrator's to round-off (the
+            // default bead model's volume correction comes from a grid, accurate to 0.1%).
+            std::vector<Vec3> placed = bodyPositions(positions, body);
+            integrator.setBodyHydrodynamics(body, ownTensor(placed), placed);
+        }
+    }
+    int numBodies() const {
+        return firstParticle.size();
+    }
+    /** The particles of body b at these positions. */
+    std::vector<Vec3> bodyPositions(const std::vector<Vec3>& pos, int b) const {
+        return std::vector<Vec3>(pos.begin()+firstParticle[b], pos.begin()+firstParticle[b]+shape.masses.size());
+    }
+    Vec3 centreOfMass(const std::vector<Vec3>& pos, int b) const {
+        Vec3 com;
+        for (int i = 0; i < (int) shape.masses.size(); i++)
+            com += pos[firstParticle[b]+i]*(shape.masses[i]/shape.mass);
+        return com;
+    }
+    /** A body's own friction where its particles are: they are beads, with the volume correction of their spheres' volumes. */
+    ResistanceTensor ownTensor(const std::vector<Vec3>& beads) const {
+        std::vector<double> radii(beads.size(), BlobRadius);
+        return ResistanceTensor::beads(beads, radii, ResistanceTensor::beadVolume(radii));
+    }
+    ResistanceTensor ownTensor(const std::vector<Vec3>& pos, int b) const {
+        return ownTensor(bodyPositions(pos, b));
+    }
+    /** The coupled resistance per unit viscosity, lab frame, about the centres of mass, from the hydrodynamics library. */
+    Matrix coupledResistance(const std::vector<Vec3>& pos) const {
+        CoupledResistance coupled;
+        for (int b = 0; b < numBodies(); b++) {
+            coupled.addBody(bodyPositions(pos, b), std::vector<double>(shape.masses.size(), BlobRadius), centreOfMass(pos, b));
+            coupled.setBodyResistance(b, ownTensor(pos, b));
+        }
+        return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> >(coupled.getResistance().data(), 6*numBodies(), 6*numBodies());
+    }
+    /** Each body alone with its own friction: the block diagonal of own tensors. */
+    Matrix uncoupledResistance(const std::vector<Vec3>& pos) const {
+        Matrix r = Matrix::Zero(6*numBodies(), 6*numBodies());
+        for (int b = 0; b < numBodies(); b++) {
+            std::vector<double> xi = ownTensor(pos, b).getMatrix(centreOfMass(pos, b));
+            for (int k = 0; k < 36; k++)
+                r(6*b+k/6, 6*b+k%6) = xi[k];
+        }
+        return r;
+    }
+    /** The lab-frame mass matrix of the bodies at these positions: mass, and the inertia tensor about the centre of mass. */
+    Matrix massMatrix(const std::vector<Vec3>& pos) const {
+        Matrix m = Matrix::Zero(6*numBodies(), 6*numBodies());
+        for (int b = 0; b < numBodies(); b++) {
+            Vec3 com = centreOfMass(pos, b);
+            std::vector<Eigen::Vector3d> offsets;
+            for (const Vec3& p : bodyPositions(pos, b))
+                offsets.push_back(toEigen(p-com));
+            m.block<3, 3>(6*b, 6*b) = shape.mass*Eigen::Matrix3d::Identity();
+            m.block<3, 3>(6*b+3, 6*b+3) = shape.inertiaTensor(offsets);
+        }
+        return m;
+    }
+    /** Every body's lab momentum and angular momentum about its centre of mass, from its particles. */
+    Eigen::VectorXd momenta(const std::vector<Vec3>& pos, const std::vector<Vec3>& vel) const {
+        Eigen::VectorXd p = Eigen::VectorXd::Zero(6*numBodies());
+        for (int b = 0; b < numBodies(); b++) {
+            Vec3 com = centreOfMass(pos, b);
+            for (int i = 0; i < (int) shape.masses.size(); i++) {
+                int k = firstParticle[b]+i;
+                p.segment<3>(6*b) += shape.masses[i]*toEigen(vel[k]);
+                p.segment<3>(6*b+3) += shape.masses[i]*toEigen(pos[k]-com).cross(toEigen(vel[k]));
+            }
+        }
+        return p;
+    }
+};
+
+/** The momenta after one midpoint friction step from momenta p (zero temperature): M (M + h R/2)^-1 (M - h R/2) M^-1 p, R the friction. */
+Eigen::VectorXd midpointStep(const Matrix& mass, const Matrix& friction, double h, const Eigen::VectorXd& p) {
+    Matrix plus = mass+0.5*h*friction, minus = mass-0.5*h*friction;
+    return mass*plus.ldlt().solve(minus*mass.ldlt().solve(p));
+}
+
+bool refusedOnThisPlatform(const PlatformConfig& config) {
+    if (!config.isGPU())
+        return false;
+    System system;
+    system.addParticle(1.0);
+    system.addParticle(1.0);
+    RigidLangevinIntegrator integrator(300, 536, 0.002);
+    integrator.setScheme(RigidLangevinIntegrator::BAOAB);
+    integrator.setHydrodynamicInteractions(true);
+    integrator.setParticleRadius(0, 0.1);
+    integrator.setParticleRadius(1, 0.1);
+    try {
+        std::unique_ptr<Context> context(createContext(system, integrator, config));
+        ADD_FAILURE() << "hydrodynamic interactions were accepted on " << config.platform;
+    }
+    catch (const OpenMMException& e) {
+        EXPECT_NE(std::string(e.what()).find("not yet available on the "+config.platform), std::string::npos) << e.what();
+    }
+    return true;
+}
+
+} // namespace
+
+class HydrodynamicInteractions : public testing::TestWithParam<PlatformConfig> {
+};
+
+TEST_P(HydrodynamicInteractions, OneStepIsTheMidpointRuleWithTheCoupledResistance) {
+    if (refusedOnThisPlatform(GetParam()))
+        return;
+    // Zero temperature and force, every particle at the same velocity: one step drifts the bodies by
+    // h/2 together (their resistance unchanged, since no body turns), applies the friction step and
+    // drifts again; the bodies' lab momenta and angular momenta come out as the midpoint rule gives
+    // with the library's resistance of the same blobs.
+    const double viscosity = 5000, h = 0.002;
+    for (double spacing : {0.25, 1e4}) {
+        SCOPED_TRACE("bodies "+std::to_string(spacing)+" nm apart");
+        RigidLangevinIntegrator integrator(0, viscosity, h);
+        integrator.setScheme(RigidLangevinIntegrator::BAOAB);
+        integrator.setHydrodynamicInteractions(true);
+        Cluster cluster(integrator, {Vec3(0, 0, 0), Vec3(spacing, 0.02, 0), Vec3(0.4*spacing, 0.8*spacing, 0.1)}, 11);
+        std::unique_ptr<Context> context(createContext(cluster.system, integrator, GetParam()));
+        context->setPositions(cluster.positions);
+        std::vector<Vec3> velocities(cluster.positions.size(), Vec3(0.3, -0.5, 0.7));
+        context->setVelocities(velocities);
+        Eigen::VectorXd p0 = cluster.momenta(cluster.positions, velocities);
+        integrator.step(1);
+        std::vector<Vec3> pos, vel;
+        getParticles(*context, pos, vel);
+        Eigen::VectorXd p1 = cluster.momenta(pos, vel);
+        Matrix mass = cluster.massMatrix(cluster.positions);
+        Eigen::VectorXd coupled = midpointStep(mass, viscosity*cluster.coupledResistance(cluster.positions), h, p0);
+        Eigen::VectorXd uncoupled = midpointStep(mass, viscosity*cluster.uncoupledResistance(cluster.positions), h, p0);
+        double scale = p0.norm();
+        std::cout << GetParam() << ", " << spacing << " nm apart: |measured - coupled| " << (p1-coupled).norm()/scale << ", |coupled - uncoupled| "
+                  << (coupled-uncoupled).norm()/scale << " (relative to the momenta)" << std::endl;
+        EXPECT_LT((p1-coupled).norm(), 1e-9*scale);
+        if (spacing > 1)
+            EXPECT_LT((p1-uncoupled).norm(), 1e-4*scale);  // the coupling left is of order size/distance, 1e-5
+        else
+            EXPECT_GT((p1-uncoupled).norm(), 0.05*scale);  // close bodies drag each other: the test can tell
+    }
+}
+
+TEST_P(HydrodynamicInteractions, SettlingPairMovesAtItsRotnePragerYamakawaMobility) {
+    if (refusedOnThisPlatform(GetParam()))
+        return;
+    // Two spheres of one blob each (free particles, radius a) pulled by the same force: once their
+    // velocities have relaxed, every step moves them by exactly h (mu_self + mu_pair) F / viscosity
+    // (the midpoint rule's steady state), with the pair mobility of Rotne-Prager-Yamakawa across
+    // or along the line of centres, or its overlap-regularised form.
+    const double a = 0.5, mass = 20, viscosity = 50, h = 0.02, force = 30;
+    struct Case {
+        const char* name;
+        double distance;
+        bool inLine;
+    };
+    for (Case c : {Case{"side by side, r = 3a", 3*a, false}, Case{"in line, r = 3a", 3*a, true}, Case{"in line, overlapping, r = 1.5a", 1.5*a, true}}) {
+        SCOPED_TRACE(c.name);
+        double r = c.distance;
+        double mobility = 1/(6*M_PI*a);
+        if (r > 2*a)
+            mobility += (c.inLine ? 2-4*a*a/(3*r*r) : 1+2*a*a/(3*r*r))/(8*M_PI*r);
+        else
+            mobility += (c.inLine ? 1-9*r/(32*a)+3*r/(32*a) : 1-9*r/(32*a))/(6*M_PI*a);
+        double exact = mobility*force/viscosity;
+        System system;
+        system.addParticle(mass);
+        system.addParticle(mass);
+        CustomExternalForce* pull = new CustomExternalForce("-f*z");
+        pull->addGlobalParameter("f", force);
+        pull->addParticle(0);
+        pull->addParticle(1);
+        system.addForce(pull);
+        RigidLangevinIntegrator integrator(0, viscosity, h);
+        integrator.setScheme(RigidLangevinIntegrator::BAOAB);
+        integrator.setHydrodynamicInteractions(true);
+        integrator.setParticleRadius(0, a);
+        integrator.setParticleRadius(1, a);
+        std::unique_ptr<Context> context(createContext(system, integrator, GetParam()));
+        context->setPositions({Vec3(), c.inLine ? Vec3(0, 0, r) : Vec3(r, 0, 0)});
+        integrator.step(400);  // relaxes by ((1-x)/(1+x))^400, x = h viscosity xi/(2m) about 0.2
+        std::vector<Vec3> before = context->getState(State::Positions).getPositions();
+        integrator.step(100);
+        std::vector<Vec3> after = context->getState(State::Positions).getPositions();
+        for (int i = 0; i < 2; i++) {
+            Vec3 velocity = (after[i]-before[i])/(100*h);
+            std::cout << GetParam() << ", " << c.name << ": particle " << i << " settles at " << velocity[2] << " nm/ps, Rotne-Prager-Yamakawa "
+                      << exact << ", alone " << force/(6*M_PI*a*viscosity) << std::endl;
+            EXPECT_NEAR(velocity[2], exact, 1e-9*exact);
+            EXPECT_NEAR(velocity[0], 0, 1e-9*exact);
+            EXPECT_NEAR(velocity[1], 0, 1e-9*exact);
+        }
+    }
+}
+
+TEST_P(HydrodynamicInteractions, NoiseCovarianceIsTwoKTResistanceEigenmodeByEigenmode) {
+    if (refusedOnThisPlatform(GetParam()))
+        return;
+    // From rest, without forces, one step's momenta are (M + h R/2)^-1 sqrt(2 kT h) R^1/2 xi (times
+    // M): covariance C = 2 kT h M P^-1 R P^-1 M, P = M + h R/2, R = viscosity x the coupled
+    // resistance. Along each eigenvector of C the sampled variance over N steps is its eigenvalue
+    // within sqrt(2/N) (4.5 standard errors allowed: a factor 2 fails), and the sampled covariance
+    // of two eigenmodes vanishes within 1/sqrt(N).
+    const double viscosity = 2000, h = 0.002, temperature = 300;
+    const int numSamples = (runsEveryStatisticalCase(GetParam()) ? 3000 : 1500);
+    RigidLangevinIntegrator integrator(temperature, viscosity, h);
+    integrator.setScheme(RigidLangevinIntegrator::BAOAB);
+    integrator.setHydrodynamicInteractions(true);
+    integrator.setRandomNumberSeed(17);
+    Cluster cluster(integrator, {Vec3(0, 0, 0), Vec3(0.22, 0.05, 0), Vec3(0.1, 0.2, 0.08)}, 5);
+    std::unique_ptr<Context> context(createContext(cluster.system, integrator, GetParam()));
+    Matrix mass = cluster.massMatrix(cluster.positions);
+    Matrix friction = viscosity*cluster.coupledResistance(cluster.positions);
+    Matrix p = mass+0.5*h*friction;
+    Matrix pInverseM = p.ldlt().solve(mass);
+    Matrix expected = 2*BOLTZ*temperature*h*pInverseM.transpose()*friction*pInverseM;
+    Eigen::SelfAdjointEigenSolver<Matrix> modes(expected);
+    const int n = expected.rows();
+    Matrix sampled = Matrix::Zero(n, n);
+    std::vector<Vec3> zero(cluster.positions.size());
+    for (int s = 0; s < numSamples; s++) {
+        context->setPositions(cluster.positions);
+        context->setVelocities(zero);
+        integrator.step(1);
+        std::vector<Vec3> pos, vel;
+        getParticles(*context, pos, vel);
+        Eigen::VectorXd a = modes.eigenvectors().transpose()*cluster.momenta(pos, vel);
+        sampled += a*a.transpose()/numSamples;
+    }
+    double worstVariance = 0, worstCorrelation = 0;
+    for (int i = 0; i < n; i++) {
+        double ratio = sampled(i, i)/modes.eigenvalues()[i];
+        worstVariance = std::max(worstVariance, std::abs(ratio-1));
+        EXPECT_NEAR(ratio, 1, 4.5*std::sqrt(2.0/numSamples)) << "eigenmode " << i << " (eigenvalue " << modes.eigenvalues()[i] << ")";
+        for (int j = 0; j < i; j++) {
+            double correlation = sampled(i, j)/std::sqrt(modes.eigenvalues()[i]*modes.eigenvalues()[j]);
+            worstCorrelation = std::max(worstCorrelation, std::abs(correlation));
+            EXPECT_LT(std::abs(correlation), 4.5/std::sqrt(numSamples)) << "eigenmodes " << i << " and " << j;
+        }
+    }
+    std::cout << GetParam() << ": " << n << " eigenmodes over " << numSamples << " samples; largest |variance/eigenvalue - 1| " << worstVariance
+              << " (standard error " << std::sqrt(2.0/numSamples) << "), largest correlation " << worstCorrelation << std::endl;
+}
+
+TEST_P(HydrodynamicInteractions, TemperaturesAndTrapEnergyAreExact) {
+    if (refusedOnThisPlatform(GetParam()))
+        return;
+    // Eight bodies each in its own harmonic trap on its centre of mass (every particle pulled with
+    // stiffness k m_i/M towards the trap centre: U = k/2 (|R - c|^2 + sum m_i |b_i|^2/M), whatever the
+    // orientation), the traps at the corners of a cube of side 0.26 nm, so that the bodies drag each
+    // other strongly. Translational and rotational temperatures and the mean potential energy must
+    // equal their exact values within 3% (three standard errors inside it), as without interactions.
+    const double temperature = 300, viscosity = 200, h = 0.004, k = 3000;
+    const double kT = BOLTZ*temperature;
+    RigidLangevinIntegrator integrator(temperature, viscosity, h);
+    integrator.setScheme(RigidLangevinIntegrator::BAOAB);
+    integrator.setHydrodynamicInteractions(true);
+    integrator.setRandomNumberSeed(23);
+    std::vector<Vec3> traps;
+    for (int corner = 0; corner < 8; corner++)
+        traps.push_back(Vec3(corner&1, (corner>>1)&1, (corner>>2)&1)*0.26);
+    Cluster cluster(integrator, traps, 9);
+    CustomExternalForce* trap = new CustomExternalForce("0.5*k*w*((x-x0)^2+(y-y0)^2+(z-z0)^2)");
+    trap->addGlobalParameter("k", k);
+    trap->addPerParticleParameter("w");
+    trap->addPerParticleParameter("x0");
+    trap->addPerParticleParameter("y0");
+    trap->addPerParticleParameter("z0");
+    double bodyEnergy = 0;  // k/2 sum m_i |b_i|^2 / M, the part that does not move
+    Eigen::Vector3d com = Eigen::Vector3d::Zero();
+    for (int i = 0; i < (int) cluster.shape.masses.size(); i++)
+        com += cluster.shape.masses[i]*cluster.shape.reference[i]/cluster.shape.mass;
+    for (int i = 0; i < (int) cluster.shape.masses.size(); i++)
+        bodyEnergy += 0.5*k*cluster.shape.masses[i]/cluster.shape.mass*(cluster.shape.reference[i]-com).squaredNorm();
+    for (int b = 0; b < cluster.numBodies(); b++)
+        for (int i = 0; i < (int) cluster.shape.masses.size(); i++)
+            trap->addParticle(cluster.firstParticle[b]+i, {cluster.shape.masses[i]/cluster.shape.mass, traps[b][0], traps[b][1], traps[b][2]});
+    cluster.system.addForce(trap);
+    std::unique_ptr<Context> context(createContext(cluster.system, integrator, GetParam()));
+    context->setPositions(cluster.positions);
+    context->setVelocitiesToTemperature(temperature, 3);
+    integrator.step(1000);
+    const int numSamples = (runsEveryStatisticalCase(GetParam()) ? 20000 : 10000);
+    Series translational, rotational, potential;
+    for (int s = 0; s < numSamples; s++) {
+        integrator.step(5);
+        translational.add(integrator.computeTranslationalTemperature());
+        rotational.add(integrator.computeRotationalTemperature());
+        potential.add(context->getState(State::Energy).getPotentialEnergy());
+    }
+    double exactPotential = cluster.numBodies()*(1.5*kT+bodyEnergy);
+    struct Check {
+        const char* name;
+        const Series& series;
+        double exact;
+    };
+    for (Check c : {Check{"translational temperature", translational, temperature}, Check{"rotational temperature", rotational, temperature},
+                    Check{"trap energy", potential, exactPotential}}) {
+        std::cout << GetParam() << ": " << c.name << " " << c.series.mean() << " +- " << c.series.standardError() << ", exact " << c.exact << std::endl;
+        EXPECT_LT(3*c.series.standardError(), 0.03*c.exact) << c.name;
+        EXPECT_NEAR(c.series.mean(), c.exact, 0.03*c.exact) << c.name;
+    }
+}
+
+TEST_P(HydrodynamicInteractions, CheckpointContinuesTheSameTrajectory) {
+    if (refusedOnThisPlatform(GetParam()))
+        return;
+    // The coupled friction is recomputed from the bodies' states, which a checkpoint restores
+    // exactly, as it does the random streams: continuing from it repeats the trajectory bit for bit.
+    RigidLangevinIntegrator integrator(300, 300, 0.004);
+    integrator.setScheme(RigidLangevinIntegrator::BAOAB);
+    integrator.setHydrodynamicInteractions(true);
+    integrator.setRandomNumberSeed(5);
+    Cluster cluster(integrator, {Vec3(0, 0, 0), Vec3(0.3, 0.1, 0), Vec3(0.1, 0.35, 0.1)}, 4);
+    std::unique_ptr<Context> context(createContext(cluster.system, integrator, GetParam()));
+    context->setPositions(cluster.positions);
+    context->setVelocitiesToTemperature(300, 2);
+    integrator.step(5);
+    std::stringstream checkpoint;
+    context->createCheckpoint(checkpoint);
+    integrator.step(10);
+    State first = context->getState(State::Positions | State::Velocities);
+    context->loadCheckpoint(checkpoint);
+    integrator.step(10);
+    State second = context->getState(State::Positions | State::Velocities);
+    for (int i = 0; i < cluster.system.getNumParticles(); i++) {
+        ASSERT_EQ(first.getPositions()[i], second.getPositions()[i]) << "particle " << i;
+        ASSERT_EQ(first.getVelocities()[i], second.getVelocities()[i]) << "particle " << i;
+    }
+    EXPECT_GT(std::sqrt((first.getPositions()[0]-cluster.positions[0]).dot(first.getPositions()[0]-cluster.positions[0])), 1e-4);
+}
+
+TEST_P(HydrodynamicInteractions, RefusesWhatItCannotDo) {
+    if (refusedOnThisPlatform(GetParam()))
+        return;
+    System system;
+    for (int i = 0; i < 3; i++)
+        system.addParticle(10.0);
+    auto expectRefusal = [&] (RigidLangevinIntegrator& integrator, const std::string& words) {
+        try {
+            std::unique_ptr<Context> context(createContext(system, integrator, GetParam()));
+            context->setPositions({Vec3(0, 0, 0), Vec3(0.3, 0, 0), Vec3(0, 0.3, 0)});
+            integrator.step(1);
+            ADD_FAILURE() << "not refused: " << words;
+        }
+        catch (const OpenMMException& e) {
+            EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+        }
+    };
+    {
+        // Another scheme.
+        RigidLangevinIntegrator integrator(300, 536, 0.002);
+        integrator.setHydrodynamicInteractions(true);
+        for (int i = 0; i < 3; i++)
+            integrator.setParticleRadius(i, 0.1);
+        expectRefusal(integrator, "setScheme(RigidLangevinIntegrator::BAOAB)");
+    }
+    {
+        // A body of one blob that rotates: its blobs do not resist rotation.
+        RigidLangevinIntegrator integrator(300, 536, 0.002);
+        integrator.setScheme(RigidLangevinIntegrator::BAOAB);
+        integrator.setHydrodynamicInteractions(true);
+        integrator.addRigidBody({0, 1, 2});
+        integrator.setParticleRadius(0, 0.1);
+        std::vector<double> xi = flatten(Eigen::Matrix<double, 6, 6>::Identity());
+        integrator.setBodyResistance(0, xi, Vec3(), {Vec3(0, 0, 0), Vec3(0.3, 0, 0), Vec3(0, 0.3, 0)});
+        expectRefusal(integrator, "rigid body 0: its blobs do not resist every motion");
+    }
+    {
+        // Blobs off the point of a body that cannot turn.
+        System single;
+        single.addParticle(10.0);
+        RigidLangevinIntegrator integrator(300, 536, 0.002);
+        integrator.setScheme(RigidLangevinIntegrator::BAOAB);
+        integrator.setHydrodynamicInteractions(true);
+        integrator.addRigidBody({0});
+        integrator.setParticleRadius(0, 0.1);
+        integrator.setBodyBlobs(0, {Vec3(0.1, 0, 0), Vec3(-0.1, 0, 0)}, {0.1, 0.1}, {Vec3()});
+        try {
+            std::unique_ptr<Context> context(createContext(single, integrator, GetParam()));
+            context->setPositions({Vec3()});
+            integrator.step(1);
+            ADD_FAILURE() << "blobs off a point body were accepted";
+        }
+        catch (const OpenMMException& e) {
+            EXPECT_NE(std::string(e.what()).find("cannot turn at all"), std::string::npos) << e.what();
+        }
+    }
+    {
+        // A periodic box (not yet).
+        System periodic;
+        periodic.addParticle(10.0);
+        periodic.setDefaultPeriodicBoxVectors(Vec3(3, 0, 0), Vec3(0, 3, 0), Vec3(0, 0, 3));
+        NonbondedForce* nonbonded = new NonbondedForce();
+        nonbonded->setNonbondedMethod(NonbondedForce::CutoffPeriodic);
+        nonbonded->addParticle(0, 0.2, 0.1);
+        periodic.addForce(nonbonded);
+        RigidLangevinIntegrator integrator(300, 536, 0.002);
+        integrator.setScheme(RigidLangevinIntegrator::BAOAB);
+        integrator.setHydrodynamicInteractions(true);
+        integrator.setParticleRadius(0, 0.1);
+        try {
+            std::unique_ptr<Context> context(createContext(periodic, integrator, GetParam()));
+            ADD_FAILURE() << "a periodic System was accepted";
+        }
+        catch (const OpenMMException& e) {
+            EXPECT_NE(std::string(e.what()).find("periodic"), std::string::npos) << e.what();
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(OnPlatform, HydrodynamicInteractions, testing::ValuesIn(platformConfigs()), PlatformConfigName());
