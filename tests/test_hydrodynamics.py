@@ -188,3 +188,24 @@ def test_coupled_resistance_calibrated_to_each_bodys_own_tensor():
     assert np.abs(hydro.coupledMobility(bodies, own=own)@calibrated-np.eye(12)).max() < 1e-8
     with pytest.raises(ValueError, match='own gives 1 tensors for 2 bodies'):
         hydro.coupledResistance(bodies, own=own[:1])
+
+
+def test_coupled_resistance_in_a_periodic_box():
+    # One blob of radius a in a cube of side L: its translational resistance is 6 pi a over
+    # Hasimoto's 1 - 2.837297 a/L + 4 pi/3 (a/L)^3 (exact for RPY blobs); a body moved by a box vector
+    # changes nothing; a triclinic box given as a Quantity.
+    a = 0.2
+    for ratio in (0.05, 0.2):
+        side = a/ratio
+        r = hydro.coupledResistance([([(0.3, 0.1, 0.2)], [a], (0.3, 0.1, 0.2))], box=np.eye(3)*side)
+        expected = 6*math.pi*a/(1-2.8372974795*ratio+4*math.pi/3*ratio**3)
+        assert np.allclose(r[:3, :3], expected*np.eye(3), rtol=1e-9, atol=1e-9*expected)
+    rng = np.random.default_rng(2)
+    box = np.array([[2.0, 0, 0], [0.3, 1.9, 0], [-0.2, 0.4, 2.1]])
+    bodies = [(np.array(c)+rng.uniform(-0.2, 0.2, (4, 3)), rng.uniform(0.05, 0.1, 4), np.array(c)) for c in ((0, 0, 0), (0.8, 0.5, 0.3))]
+    shifted = [bodies[0], (bodies[1][0]+box[2]-box[0], bodies[1][1], bodies[1][2]+box[2]-box[0])]
+    periodic = hydro.coupledResistance(bodies, box=box*unit.nanometer)
+    assert np.abs(hydro.coupledResistance(shifted, box=box)-periodic).max() < 1e-10*np.abs(periodic).max()
+    assert np.abs(hydro.coupledResistance(bodies)-periodic).max() > 0.01*np.abs(periodic).max()
+    with pytest.raises(mm.OpenMMException, match='span no volume'):
+        hydro.coupledResistance(bodies, box=[(1, 0, 0), (0, 1, 0), (1, 1, 0)])

@@ -43,6 +43,18 @@ namespace RigidLangevinPlugin {
  */
 class OPENMM_EXPORT_HYDRODYNAMICS CoupledResistance {
 public:
+    /** Bodies in an unbounded solvent, until setPeriodicBox() is called. */
+    CoupledResistance();
+    /**
+     * Put the bodies in a periodic box (three vectors in nm, OpenMM's reduced triclinic form or
+     * any right-handed box): the blobs' mobility M is then the Ewald sum over all their images
+     * (Hasimoto's split, both parts positive definite; a lone blob in a cube of side L has the
+     * mobility (1 - 2.837297 a/L + 4 pi/3 (a/L)^3)/(6 pi viscosity a) exactly). A body's blobs are
+     * taken where they are given, relative to its reference point, so give each body whole. A
+     * calibrated body (setBodyResistance()) is calibrated alone in an unbounded solvent, where
+     * its own tensor belongs; in the box it then also feels its images.
+     */
+    void setPeriodicBox(const OpenMM::Vec3& a, const OpenMM::Vec3& b, const OpenMM::Vec3& c);
     /**
      * Add a body.
      *
@@ -83,6 +95,8 @@ private:
     std::vector<std::vector<double> > radii;
     std::vector<OpenMM::Vec3> origins;
     std::vector<std::vector<double> > ownResistance;  // about the body's origin; empty if not calibrated
+    bool periodic;
+    OpenMM::Vec3 box[3];
 };
 
 } // namespace RigidLangevinPlugin

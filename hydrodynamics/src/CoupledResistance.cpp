@@ -1,6 +1,7 @@
 #include "CoupledResistance.h"
 #include "internal/BeadHydrodynamics.h"
 #include "internal/CoupledResistanceMath.h"
+#include "internal/PeriodicRotnePragerYamakawa.h"
 #include "internal/ResistanceMath.h"
 #include "internal/RotnePragerYamakawa.h"
 #include "openmm/OpenMMException.h"
@@ -37,6 +38,17 @@ int CoupledResistance::addBody(const vector<Vec3>& blobPositions, const vector<d
     return origins.size()-1;
 }
 
+CoupledResistance::CoupledResistance() : periodic(false) {
+}
+
+void CoupledResistance::setPeriodicBox(const Vec3& a, const Vec3& b, const Vec3& c) {
+    Vec3 vectors[3] = {a, b, c};
+    PeriodicRotnePragerYamakawa check(vectors);  // refuses a box that is not one
+    for (int i = 0; i < 3; i++)
+        box[i] = vectors[i];
+    periodic = true;
+}
+
 void CoupledResistance::setBodyResistance(int body, const ResistanceTensor& own) {
     if (body < 0 || body >= getNumBodies())
         throw OpenMMException("CoupledResistance::setBodyResistance: there is no body "+std::to_string(body)+" (there are "+std::to_string(getNumBodies())+")");
@@ -57,7 +69,7 @@ vector<double> CoupledResistance::getResistance() const {
             owner.push_back(b);
         }
     Matrix resistance = CoupledResistanceMath::resistance("CoupledResistance::getResistance (blobs numbered across all bodies, in the order added)",
-                                                          positions, allRadii, owner, origins);
+                                                          positions, allRadii, owner, origins, periodic ? box : NULL);
     // Calibrated bodies: T^T R T, T block-diagonal, each block from the body's blobs alone.
     for (int b = 0; b < numBodies; b++) {
         if (ownResistance[b].empty())
@@ -94,13 +106,15 @@ vector<double> CoupledResistance::getMobility() const {
 }
 
 Eigen::MatrixXd CoupledResistanceMath::resistance(const std::string& caller, const vector<Vec3>& positions, const vector<double>& radii,
-                                                  const vector<int>& owner, const vector<Vec3>& origins) {
+                                                  const vector<int>& owner, const vector<Vec3>& origins, const Vec3* boxVectors) {
     // Two bodies may hold the same sphere: M would be singular, and the message names both blobs.
     BeadHydrodynamics::validate(caller, positions, radii);
     const int numBlobs = positions.size();
     const int numBodies = origins.size();
     Eigen::MatrixXd mobility(3*numBlobs, 3*numBlobs);  // the lower triangle is enough
-    for (int i = 0; i < numBlobs; i++) {
+    if (boxVectors != NULL)
+        mobility = PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii);
+    else for (int i = 0; i < numBlobs; i++) {
         for (int j = 0; j < i; j++) {
             double block[9];
             Vec3 d = positions[j]-positions[i];

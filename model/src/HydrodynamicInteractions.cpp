@@ -55,7 +55,7 @@ int HydrodynamicInteractions::getNumBlobs() const {
     return count;
 }
 
-Eigen::MatrixXd HydrodynamicInteractions::computeResistance(const vector<BodyState>& states) const {
+Eigen::MatrixXd HydrodynamicInteractions::computeResistance(const vector<BodyState>& states, const Vec3* boxVectors) const {
     const int numBodies = model.getNumBodies();
     vector<Vec3> positions, origins;
     vector<double> radii;
@@ -70,7 +70,7 @@ Eigen::MatrixXd HydrodynamicInteractions::computeResistance(const vector<BodySta
         origins.push_back(states[b].position);
     }
     Eigen::MatrixXd r = CoupledResistanceMath::resistance("RigidLangevinIntegrator: hydrodynamic interactions (blobs numbered across all bodies in order, "
-            "free particles last)", positions, radii, owner, origins);
+            "free particles last)", positions, radii, owner, origins, boxVectors);
     // Each body's rows and columns into its frame (Q, lab to body, on its force and its torque),
     // then calibrated: T_a R_ab T_b.
     for (int b = 0; b < numBodies; b++) {

@@ -198,14 +198,16 @@ public:
      * blobs resolve their surfaces: a single blob is a far-field (Rotne-Prager) sphere; blobs on the
      * surface (ResistanceTensor::roughShellBeads()) converge to the exact two-body friction as they
      * are refined. The resistance is recomputed every step, dense (Cholesky; cost (3B)^3/3 for B
-     * blobs in all), on the Reference and CPU platforms; in an unbounded solvent (a System
-     * without periodic boundary conditions).
+     * blobs in all), on the Reference and CPU platforms. In a periodic System the blobs feel
+     * every image of every body (an Ewald sum of their mobility, exact for any box; see
+     * CoupledResistance::setPeriodicBox()), so a lone body in a box of side L is slowed by
+     * Hasimoto's finite-size correction, about 2.84 a/L for a sphere of radius a.
      *
      * The step is BAOAB's (setScheme(BAOAB)) with the friction step the midpoint rule for all bodies
      * at once: it keeps the Maxwell distribution of velocities exactly at any friction and step,
      * and the long-time diffusion of a free body exact. Creating a Context or stepping with
-     * interactions under another scheme throws, as does a platform or a periodic System that does
-     * not have them yet (OpenCL, CUDA).
+     * interactions under another scheme throws, as does a platform that does not have them yet
+     * (OpenCL, CUDA).
      */
     void setHydrodynamicInteractions(bool enabled);
     /** Get whether bodies are coupled through the solvent (setHydrodynamicInteractions()). */

@@ -146,8 +146,10 @@ def explicit(matrix, origin=(0, 0, 0)):
     return ResistanceTensor.explicit(matrix, _point(origin))
 
 
-def _coupled(bodies, own):
+def _coupled(bodies, own, box):
     coupled = CoupledResistance()
+    if box is not None:
+        coupled.setPeriodicBox(*_vectors(box))
     for body in bodies:
         if len(body) != 3:
             raise ValueError('each body is (blob positions, blob radii, reference point)')
@@ -162,7 +164,7 @@ def _coupled(bodies, own):
     return coupled
 
 
-def coupledResistance(bodies, own=None):
+def coupledResistance(bodies, own=None, box=None):
     """The resistance per unit viscosity of several bodies that feel each other through the solvent
     (see CoupledResistance): a (6N, 6N) numpy array, body by body in the order given, each with its
     velocity (of its reference point) first and its angular velocity second; blocks in nm, nm^2, nm^3.
@@ -177,15 +179,18 @@ def coupledResistance(bodies, own=None):
     own: optionally, per body, the ResistanceTensor it has alone (or None to keep its blobs'), each
     given in the frame the body is in now: the body's blocks are then calibrated to it (see
     CoupledResistance.setBodyResistance), as the integrator does with hydrodynamic interactions on.
+
+    box: optionally, the three vectors of a periodic box (a 3x3 array, a list of Vec3 or a Quantity,
+    nm): the blobs then feel every image (see CoupledResistance.setPeriodicBox).
     """
-    return _coupled(bodies, own).getResistance()
+    return _coupled(bodies, own, box).getResistance()
 
 
-def coupledMobility(bodies, own=None):
-    """The inverse of coupledResistance(bodies, own): (velocities, angular velocities) = mobility
+def coupledMobility(bodies, own=None, box=None):
+    """The inverse of coupledResistance(bodies, own, box): (velocities, angular velocities) = mobility
     (forces, torques) / viscosity. Refused, naming the body, where a body cannot rotate about some
     axis (one blob, or blobs on one line)."""
-    return _coupled(bodies, own).getMobility()
+    return _coupled(bodies, own, box).getMobility()
 
 
 #: HYDROPRO's atomic element radius (AER) for atomic-level models: each non-hydrogen atom becomes a

@@ -17,13 +17,15 @@ namespace CoupledResistanceMath {
 
 /**
  * R = K^T M^-1 K per unit viscosity (lab frame; see CoupledResistance) for blobs at positions with
- * radii, blob k belonging to body owner[k], the bodies' reference points at origins. Throws an
- * OpenMMException, beginning with caller, naming two blobs that are the same sphere or one that is
- * not finite, or if M cannot be factorised.
+ * radii, blob k belonging to body owner[k], the bodies' reference points at origins; in a periodic
+ * box if boxVectors (three) is given (M then PeriodicRotnePragerYamakawa's, each body's blobs
+ * taken where they are, relative to its origin). Throws an OpenMMException, beginning with
+ * caller, naming two blobs that are the same sphere or one that is not finite, or if M cannot be
+ * factorised.
  */
 OPENMM_EXPORT_HYDRODYNAMICS Eigen::MatrixXd resistance(const std::string& caller, const std::vector<OpenMM::Vec3>& positions,
                                                        const std::vector<double>& radii, const std::vector<int>& owner,
-                                                       const std::vector<OpenMM::Vec3>& origins);
+                                                       const std::vector<OpenMM::Vec3>& origins, const OpenMM::Vec3* boxVectors = NULL);
 
 /**
  * The calibration of a body whose blobs alone have resistance D (blobResistance) but whose own

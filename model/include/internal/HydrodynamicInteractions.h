@@ -35,8 +35,9 @@ public:
     }
     /** The number of blobs of all bodies together. */
     int getNumBlobs() const;
-    /** The coupled resistance per unit viscosity of the bodies at these states (see the class description). */
-    Eigen::MatrixXd computeResistance(const std::vector<BodyState>& states) const;
+    /** The coupled resistance per unit viscosity of the bodies at these states (see the class
+     *  description), in the periodic box of boxVectors (three) if given. */
+    Eigen::MatrixXd computeResistance(const std::vector<BodyState>& states, const OpenMM::Vec3* boxVectors = NULL) const;
     /** The generalised velocities of the bodies in these states. */
     Eigen::VectorXd getVelocities(const std::vector<BodyState>& states) const;
     /** Set the velocities and angular momenta of the states from generalised velocities. */

@@ -100,7 +100,7 @@ protected:
         const RigidLangevinIntegrator::Scheme scheme = integrator.getScheme();
         const bool frictionless = (integrator.getViscosity() == 0);
         if (interactions && !frictionless)
-            takeCoupledStep(integrator, removeMotion, centerOfMassVelocity);
+            takeCoupledStep(context, integrator, removeMotion, centerOfMassVelocity);
         else {
             // One pass per body: forces, kick, flow and placing its particles, while the body is in cache.
             forEachChunk([&] (int chunk, int begin, int end) {
@@ -156,7 +156,7 @@ private:
      * positions, dense, with the first chunk's random numbers so that a trajectory does not depend
      * on the number of threads), then every body's second half drift.
      */
-    void takeCoupledStep(const RigidLangevinIntegrator& integrator, bool removeMotion, OpenMM::Vec3 centerOfMassVelocity) {
+    void takeCoupledStep(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, bool removeMotion, OpenMM::Vec3 centerOfMassVelocity) {
         const double h = integrator.getStepSize();
         std::vector<BodyState> states(bodies.size());
         forEachChunk([&] (int chunk, int begin, int end) {
@@ -172,7 +172,11 @@ private:
                 BodyDynamics::drift(s, type, 0.5*h);
             }
         });
-        Eigen::MatrixXd resistance = interactions->computeResistance(states);
+        OpenMM::Vec3 box[3];
+        const bool periodic = context.getSystem().usesPeriodicBoundaryConditions();
+        if (periodic)
+            context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+        Eigen::MatrixXd resistance = interactions->computeResistance(states, periodic ? box : NULL);
         Eigen::VectorXd u = interactions->getVelocities(states);
         Eigen::VectorXd normals(u.size());
         for (int i = 0; i < u.size(); i++)

@@ -64,9 +64,6 @@ void RigidLangevinStepKernelBase::initialize(const System& system, const RigidLa
         if (!supportsHydrodynamicInteractions())
             throw OpenMMException("RigidLangevinIntegrator: hydrodynamic interactions are not yet available on the "+getPlatform().getName()+
                     " platform; use the Reference or CPU platform, or setHydrodynamicInteractions(false)");
-        if (system.usesPeriodicBoundaryConditions())
-            throw OpenMMException("RigidLangevinIntegrator: hydrodynamic interactions are not yet available in a periodic box (the System uses periodic "
-                    "boundary conditions); they couple bodies in an unbounded solvent");
         checkInteractionScheme(integrator);
     }
 }

@@ -1,0 +1,58 @@
+#ifndef RIGID_LANGEVIN_PERIODIC_ROTNE_PRAGER_YAMAKAWA_H_
+#define RIGID_LANGEVIN_PERIODIC_ROTNE_PRAGER_YAMAKAWA_H_
+
+#include "openmm/Vec3.h"
+#include "internal/windowsExportHydrodynamics.h"
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace RigidLangevinPlugin {
+
+/**
+ * The blobs' generalised Rotne-Prager-Yamakawa mobility in a periodic box (any triclinic box),
+ * per unit viscosity, by an Ewald sum whose two parts are each positive semidefinite.
+ *
+ * The generalised RPY tensor (overlapping and unequal blobs included) is the Oseen tensor averaged
+ * over both blobs' surfaces; in Fourier space it is sinc(k a_i) sinc(k a_j) (I - kk)/k^2. The
+ * periodic mobility sums that over the reciprocal lattice without k = 0 (the fluid at rest on
+ * average; Hasimoto 1959). Hasimoto's split (as in the positively split Ewald method, Fiore et al.,
+ * J. Chem. Phys. 146, 124116 (2017)) divides it with phi(k) = (1 + k^2/4xi^2) exp(-k^2/4xi^2),
+ * between 0 and 1, into
+ *
+ *   a wave-space part   (1/V) sum_{k != 0} phi(k) sinc(k a_i) sinc(k a_j) (I - kk)/k^2 cos(k.r)
+ *   a real-space part   sum_n F(r + n),  F = RPY(r) - G(r),
+ *
+ * G being the inverse Fourier transform over all k of phi times the tensor: F is positive (the
+ * weight 1 - phi is), short-ranged (phi = 1 - O(k^4), so no dipolar tail survives), and G(r), an
+ * even, band-limited integrand times a Gaussian, is integrated to rounding by the trapezoid rule.
+ * Both sums are cut where their terms fall below 1e-16 of the leading ones; xi only moves work
+ * between them (the tests check the result does not depend on it). Exact for every configuration,
+ * overlapping blobs and blobs overlapping their own images included; a lone blob in a cube of side
+ * L has the mobility (1 - 2.837297 a/L + 4 pi/3 (a/L)^3)/(6 pi a) exactly.
+ *
+ * Dense, O(N^2) times the number of wave vectors and images: the definition of correct that faster
+ * periodic methods are tested against.
+ */
+class OPENMM_EXPORT_HYDRODYNAMICS PeriodicRotnePragerYamakawa {
+public:
+    /**
+     * @param boxVectors  the box's three vectors (nm), in OpenMM's reduced form
+     * @param splitting   Hasimoto's xi (1/nm); 0 chooses one that balances the two sums
+     */
+    PeriodicRotnePragerYamakawa(const OpenMM::Vec3 boxVectors[3], double splitting = 0);
+    /** The 3N x 3N mobility of blobs at positions with radii (both halves filled). */
+    Eigen::MatrixXd mobility(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii) const;
+    double getSplitting() const {
+        return xi;
+    }
+    /** The real-space pair function F (3x3, row-major) of blobs with radii ai, aj, j at offset d from i. */
+    void realSpaceBlock(const OpenMM::Vec3& d, double ai, double aj, double block[9]) const;
+private:
+    OpenMM::Vec3 box[3], reciprocal[3];
+    double volume, xi, realCutoffBeyondContact, waveCutoff;
+};
+
+} // namespace RigidLangevinPlugin
+
+#endif /*RIGID_LANGEVIN_PERIODIC_ROTNE_PRAGER_YAMAKAWA_H_*/
