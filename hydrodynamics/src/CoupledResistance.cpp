@@ -111,20 +111,8 @@ Eigen::MatrixXd CoupledResistanceMath::resistance(const std::string& caller, con
     BeadHydrodynamics::validate(caller, positions, radii);
     const int numBlobs = positions.size();
     const int numBodies = origins.size();
-    Eigen::MatrixXd mobility(3*numBlobs, 3*numBlobs);  // the lower triangle is enough
-    if (boxVectors != NULL)
-        mobility = PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii);
-    else for (int i = 0; i < numBlobs; i++) {
-        for (int j = 0; j < i; j++) {
-            double block[9];
-            Vec3 d = positions[j]-positions[i];
-            RotnePragerYamakawa::mobilityBlock(d[0], d[1], d[2], radii[i], radii[j], block);
-            for (int k = 0; k < 3; k++)
-                for (int l = 0; l < 3; l++)
-                    mobility(3*i+k, 3*j+l) = block[3*k+l];
-        }
-        mobility.block<3, 3>(3*i, 3*i) = RotnePragerYamakawa::selfMobility(radii[i])*Eigen::Matrix3d::Identity();
-    }
+    // The lower triangle is enough.
+    Eigen::MatrixXd mobility = (boxVectors != NULL ? PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii) : mobilityMatrix(positions, radii));
     // K: blob k of body b moves at V_b - skew(r_k - o_b) omega_b.
     Eigen::MatrixXd k = Eigen::MatrixXd::Zero(3*numBlobs, 6*numBodies);
     for (int i = 0; i < numBlobs; i++) {
@@ -141,6 +129,49 @@ Eigen::MatrixXd CoupledResistanceMath::resistance(const std::string& caller, con
     r.setZero();
     r.selfadjointView<Eigen::Lower>().rankUpdate(solved.transpose());
     return r.selfadjointView<Eigen::Lower>();
+}
+
+Eigen::MatrixXd CoupledResistanceMath::mobilityMatrix(const vector<Vec3>& positions, const vector<double>& radii, const KrylovSolvers::ParallelFor& parallel) {
+    const int n = positions.size();
+    Eigen::MatrixXd mobility(3*n, 3*n);
+    parallel(n, [&] (int begin, int end) {
+        for (int i = begin; i < end; i++) {
+            for (int j = 0; j < i; j++) {
+                double block[9];
+                Vec3 d = positions[j]-positions[i];
+                RotnePragerYamakawa::mobilityBlock(d[0], d[1], d[2], radii[i], radii[j], block);
+                for (int k = 0; k < 3; k++)
+                    for (int l = 0; l < 3; l++)
+                        mobility(3*i+k, 3*j+l) = block[3*k+l];
+            }
+            mobility.block<3, 3>(3*i, 3*i) = RotnePragerYamakawa::selfMobility(radii[i])*Eigen::Matrix3d::Identity();
+        }
+    });
+    return mobility;
+}
+
+void CoupledResistanceMath::mobilityProduct(const vector<Vec3>& positions, const vector<double>& radii, const Eigen::VectorXd& f, Eigen::VectorXd& out,
+                                            const KrylovSolvers::ParallelFor& parallel) {
+    const int n = positions.size();
+    out.resize(3*n);
+    parallel(n, [&] (int begin, int end) {
+        for (int i = begin; i < end; i++) {
+            double self = RotnePragerYamakawa::selfMobility(radii[i]);
+            double v[3] = {self*f[3*i], self*f[3*i+1], self*f[3*i+2]};
+            for (int j = 0; j < n; j++) {
+                if (j == i)
+                    continue;
+                double block[9];
+                Vec3 d = positions[j]-positions[i];
+                RotnePragerYamakawa::mobilityBlock(d[0], d[1], d[2], radii[i], radii[j], block);
+                for (int k = 0; k < 3; k++)
+                    v[k] += block[3*k]*f[3*j]+block[3*k+1]*f[3*j+1]+block[3*k+2]*f[3*j+2];
+            }
+            out[3*i] = v[0];
+            out[3*i+1] = v[1];
+            out[3*i+2] = v[2];
+        }
+    });
 }
 
 Eigen::MatrixXd CoupledResistanceMath::calibration(const std::string& caller, const Eigen::MatrixXd& blobResistance, const Eigen::MatrixXd& own) {

@@ -32,6 +32,27 @@ HydrodynamicInteractions::HydrodynamicInteractions(const RigidBodyModel& model) 
         for (int i = 0; i < n; i++)
             for (int j = 0; j < n; j++)
                 blobs.calibration(active[i], active[j]) = calibration(i, j);
+        // For the matrix-free step: K' in the body frame (blob k moves at V + omega x r_k, the six
+        // velocities T P^T u) and the body's own mobility block, factorised for the preconditioners.
+        const int numBlobs = blobs.coords.size();
+        Eigen::MatrixXd rigid(3*numBlobs, 6);
+        for (int k = 0; k < numBlobs; k++) {
+            const Vec3& r = blobs.coords[k];
+            rigid.block<3, 3>(3*k, 0).setIdentity();
+            rigid.block<3, 3>(3*k, 3) << 0, r[2], -r[1], -r[2], 0, r[0], r[1], -r[0], 0;
+        }
+        Eigen::MatrixXd calibrationColumns(6, n);
+        for (int j = 0; j < n; j++)
+            calibrationColumns.col(j) = blobs.calibration.col(active[j]);
+        blobs.velocities = rigid*calibrationColumns;
+        Eigen::MatrixXd self(3*numBlobs, 3*numBlobs);
+        for (int j = 0; j < 3*numBlobs; j++) {
+            Eigen::VectorXd e = Eigen::VectorXd::Unit(3*numBlobs, j), column;
+            CoupledResistanceMath::mobilityProduct(blobs.coords, blobs.radii, e, column);
+            self.col(j) = column;
+        }
+        blobs.selfMobility.compute(self);
+        blobs.frictionScale = 0;
         types.push_back(blobs);
     }
     int numCoordinates = 0;
@@ -55,18 +76,26 @@ int HydrodynamicInteractions::getNumBlobs() const {
     return count;
 }
 
+void HydrodynamicInteractions::placeBlobs(const vector<BodyState>& states, vector<Vec3>& positions, vector<double>& radii) const {
+    positions.clear();
+    radii.clear();
+    for (int b = 0; b < model.getNumBodies(); b++) {
+        const TypeBlobs& blobs = types[model.getBodyType(b)];
+        for (int k = 0; k < (int) blobs.coords.size(); k++) {
+            positions.push_back(states[b].position+BodyDynamics::toLab(states[b].rotation, blobs.coords[k]));
+            radii.push_back(blobs.radii[k]);
+        }
+    }
+}
+
 Eigen::MatrixXd HydrodynamicInteractions::computeResistance(const vector<BodyState>& states, const Vec3* boxVectors) const {
     const int numBodies = model.getNumBodies();
     vector<Vec3> positions, origins;
     vector<double> radii;
     vector<int> owner;
+    placeBlobs(states, positions, radii);
     for (int b = 0; b < numBodies; b++) {
-        const TypeBlobs& blobs = types[model.getBodyType(b)];
-        for (int k = 0; k < (int) blobs.coords.size(); k++) {
-            positions.push_back(states[b].position+BodyDynamics::toLab(states[b].rotation, blobs.coords[k]));
-            radii.push_back(blobs.radii[k]);
-            owner.push_back(b);
-        }
+        owner.insert(owner.end(), types[model.getBodyType(b)].coords.size(), b);
         origins.push_back(states[b].position);
     }
     Eigen::MatrixXd r = CoupledResistanceMath::resistance("RigidLangevinIntegrator: hydrodynamic interactions (blobs numbered across all bodies in order, "
@@ -138,4 +167,124 @@ void RigidLangevinPlugin::midpointFrictionStep(const Eigen::MatrixXd& resistance
     if (solver.info() != Eigen::Success)
         throw OpenMMException("RigidLangevinIntegrator: the bodies' coupled friction step could not be solved (its matrix is not positive definite)");
     u = solver.solve(rhs);
+}
+
+HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrictionStep(const vector<BodyState>& states, double viscosity, double kT, double h,
+        const Eigen::VectorXd& normals, Eigen::VectorXd& u, double tolerance, int maxIterations, const KrylovSolvers::ParallelFor& parallel) const {
+    using Eigen::VectorXd;
+    const int numBodies = model.getNumBodies();
+    vector<Vec3> positions;
+    vector<double> radii;
+    placeBlobs(states, positions, radii);
+    const int numBlobs = positions.size();
+    vector<int> firstBlob(numBodies);
+    for (int b = 0, k = 0; b < numBodies; k += types[model.getBodyType(b)].coords.size(), b++)
+        firstBlob[b] = k;
+    const double c = 0.5*h*viscosity;
+    // Each type's friction preconditioner, for this c.
+    for (int t = 0; t < (int) types.size(); t++) {
+        const TypeBlobs& blobs = types[t];
+        if (blobs.frictionScale == c)
+            continue;
+        vector<int> active = model.getType(t).getActiveCoordinates();
+        VectorXd inverseMass(active.size());
+        for (int i = 0; i < (int) active.size(); i++)
+            inverseMass[i] = 1/(active[i] < 3 ? model.getType(t).mass : model.getType(t).inertia[active[i]-3]);
+        Eigen::MatrixXd self = blobs.selfMobility.reconstructedMatrix()/c+blobs.velocities*inverseMass.asDiagonal()*blobs.velocities.transpose();
+        blobs.friction.compute(self);
+        blobs.frictionScale = c;
+    }
+    // Blob vectors (3 per blob, lab frame) to and from the bodies' frames.
+    auto bodyBlobs = [&] (const VectorXd& lab, int b, bool toBody) {
+        const int n = types[model.getBodyType(b)].coords.size();
+        VectorXd out(3*n);
+        for (int k = 0; k < n; k++) {
+            Vec3 v(lab[3*(firstBlob[b]+k)], lab[3*(firstBlob[b]+k)+1], lab[3*(firstBlob[b]+k)+2]);
+            Vec3 w = (toBody ? BodyDynamics::toBody(states[b].rotation, v) : BodyDynamics::toLab(states[b].rotation, v));
+            out.segment<3>(3*k) << w[0], w[1], w[2];
+        }
+        return out;
+    };
+    auto toLabBlobs = [&] (const VectorXd& frame, int b, VectorXd& lab) {
+        const int n = types[model.getBodyType(b)].coords.size();
+        for (int k = 0; k < n; k++) {
+            Vec3 w = BodyDynamics::toLab(states[b].rotation, Vec3(frame[3*k], frame[3*k+1], frame[3*k+2]));
+            lab.segment<3>(3*(firstBlob[b]+k)) << w[0], w[1], w[2];
+        }
+    };
+    // K' u: the blobs' lab velocities; K'^T f: the generalised forces of blob forces f.
+    auto applyK = [&] (const VectorXd& v, VectorXd& out) {
+        out.resize(3*numBlobs);
+        for (int b = 0; b < numBodies; b++) {
+            const TypeBlobs& blobs = types[model.getBodyType(b)];
+            toLabBlobs(blobs.velocities*v.segment(firstCoordinate[b], blobs.velocities.cols()), b, out);
+        }
+    };
+    auto applyKT = [&] (const VectorXd& f, VectorXd& out) {
+        out.resize(getNumCoordinates());
+        for (int b = 0; b < numBodies; b++) {
+            const TypeBlobs& blobs = types[model.getBodyType(b)];
+            out.segment(firstCoordinate[b], blobs.velocities.cols()) = blobs.velocities.transpose()*bodyBlobs(f, b, true);
+        }
+    };
+    // Up to MaxStoredMobilityBlobs blobs M is formed once (its lower triangle) and each product is a
+    // matrix-vector product, several times cheaper than evaluating every pair's block again.
+    const bool stored = (numBlobs <= MaxStoredMobilityBlobs);
+    Eigen::MatrixXd storedMobility = (stored ? CoupledResistanceMath::mobilityMatrix(positions, radii, parallel) : Eigen::MatrixXd());
+    KrylovSolvers::Operator mobility = [&] (const VectorXd& f, VectorXd& out) {
+        if (stored)
+            out.noalias() = storedMobility.selfadjointView<Eigen::Lower>()*f;
+        else
+            CoupledResistanceMath::mobilityProduct(positions, radii, f, out, parallel);
+    };
+    // Every body's own block solved in its frame.
+    auto blockSolver = [&] (bool friction) {
+        return KrylovSolvers::Operator([&, friction] (const VectorXd& in, VectorXd& out) {
+            out.resize(in.size());
+            for (int b = 0; b < numBodies; b++) {
+                const TypeBlobs& blobs = types[model.getBodyType(b)];
+                VectorXd frame = bodyBlobs(in, b, true);
+                toLabBlobs(friction ? blobs.friction.solve(frame) : blobs.selfMobility.solve(frame), b, out);
+            }
+        });
+    };
+    auto fail = [&] (const std::string& what, double residual) {
+        throw OpenMMException("RigidLangevinIntegrator: hydrodynamic interactions: "+what+" did not converge in "+std::to_string(maxIterations)+
+                " iterations (relative residual "+std::to_string(residual)+", asked for "+std::to_string(tolerance)+") with "+std::to_string(numBodies)+
+                " bodies of "+std::to_string(numBlobs)+" blobs. Blobs that nearly coincide, or very unequal blobs, make the mobility ill-conditioned: "
+                "give the bodies blobs of similar size that do not nearly coincide");
+    };
+    KrylovIterations iterations = {0, 0, 0};
+    const VectorXd& masses = getMasses();
+    VectorXd z = 2*masses.cwiseProduct(u);
+    if (kT > 0) {
+        VectorXd root, solved;
+        double change, residual;
+        iterations.noise = KrylovSolvers::lanczosSquareRoot(mobility, normals, root, tolerance, maxIterations, change);
+        if (iterations.noise < 0)
+            fail("the Lanczos iteration for the noise", change);
+        iterations.noiseSolve = KrylovSolvers::conjugateGradient(mobility, blockSolver(false), root, solved, tolerance, maxIterations, residual);
+        if (iterations.noiseSolve < 0)
+            fail("the conjugate-gradient solve for the noise", residual);
+        VectorXd xi;
+        applyKT(solved, xi);
+        z += std::sqrt(2*kT*h*viscosity)*xi;
+    }
+    VectorXd rhs, y;
+    applyK(z.cwiseQuotient(masses), rhs);
+    KrylovSolvers::Operator schur = [&] (const VectorXd& v, VectorXd& out) {
+        VectorXd back, forward;
+        mobility(v, out);
+        applyKT(v, back);
+        applyK(back.cwiseQuotient(masses), forward);
+        out = out/c+forward;
+    };
+    double residual;
+    iterations.friction = KrylovSolvers::conjugateGradient(schur, blockSolver(true), rhs, y, tolerance, maxIterations, residual);
+    if (iterations.friction < 0)
+        fail("the conjugate-gradient solve for the friction", residual);
+    VectorXd back;
+    applyKT(y, back);
+    u = (z-back).cwiseQuotient(masses)-u;
+    return iterations;
 }

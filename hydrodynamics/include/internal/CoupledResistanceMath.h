@@ -2,6 +2,7 @@
 #define RIGID_LANGEVIN_COUPLED_RESISTANCE_MATH_H_
 
 #include "openmm/Vec3.h"
+#include "internal/KrylovSolvers.h"
 #include "internal/windowsExportHydrodynamics.h"
 #include <Eigen/Core>
 #include <string>
@@ -26,6 +27,20 @@ namespace CoupledResistanceMath {
 OPENMM_EXPORT_HYDRODYNAMICS Eigen::MatrixXd resistance(const std::string& caller, const std::vector<OpenMM::Vec3>& positions,
                                                        const std::vector<double>& radii, const std::vector<int>& owner,
                                                        const std::vector<OpenMM::Vec3>& origins, const OpenMM::Vec3* boxVectors = NULL);
+
+/**
+ * The blobs' generalised RPY mobility M per unit viscosity (unbounded solvent), 3N x 3N: its lower
+ * triangle (the upper is left unset), rows shared out by parallel.
+ */
+OPENMM_EXPORT_HYDRODYNAMICS Eigen::MatrixXd mobilityMatrix(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii,
+                                                           const KrylovSolvers::ParallelFor& parallel = KrylovSolvers::sequentially);
+
+/**
+ * out = M f: the blobs' generalised RPY mobility per unit viscosity (unbounded solvent) applied to
+ * forces f (3 per blob) without forming M, its rows shared out by parallel.
+ */
+OPENMM_EXPORT_HYDRODYNAMICS void mobilityProduct(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const Eigen::VectorXd& f,
+                                                 Eigen::VectorXd& out, const KrylovSolvers::ParallelFor& parallel = KrylovSolvers::sequentially);
 
 /**
  * The calibration of a body whose blobs alone have resistance D (blobResistance) but whose own

@@ -1,7 +1,9 @@
 #ifndef RIGID_LANGEVIN_HYDRODYNAMIC_INTERACTIONS_H_
 #define RIGID_LANGEVIN_HYDRODYNAMIC_INTERACTIONS_H_
 
+#include "internal/KrylovSolvers.h"
 #include "internal/RigidBodyModel.h"
+#include <Eigen/Cholesky>
 #include "internal/windowsExportRigidLangevin.h"
 #include <Eigen/Core>
 #include <vector>
@@ -42,12 +44,43 @@ public:
     Eigen::VectorXd getVelocities(const std::vector<BodyState>& states) const;
     /** Set the velocities and angular momenta of the states from generalised velocities. */
     void setVelocities(const Eigen::VectorXd& u, std::vector<BodyState>& states) const;
+    /** Up to this many blobs krylovFrictionStep() forms M once a step (8 (3B)^2 bytes, 130 MB here) and
+     *  multiplies by it; beyond, every product evaluates the pairs again (matrix-free). */
+    static const int MaxStoredMobilityBlobs = 1350;
+    /** The iterations each Krylov method took in krylovFrictionStep() (0 for the noise's at zero temperature). */
+    struct KrylovIterations {
+        int noise, noiseSolve, friction;
+    };
+    /**
+     * The midpoint friction step of midpointFrictionStep() for the bodies in these states (open
+     * boundaries), matrix-free: R is never formed. With K' the bodies' (calibrated) blob velocities
+     * from u, M the blobs' mobility, M_b the bodies' masses and c = h viscosity/2,
+     *
+     *   noise    xi = sqrt(2 kT h viscosity) K'^T M^-1 M^1/2 W   (covariance 2 kT h viscosity R: Lanczos, then
+     *                                                            conjugate gradients on M)
+     *   friction (M_b + c R)^-1 z = M_b^-1 (z - K'^T y),  (M/c + K' M_b^-1 K'^T) y = K' M_b^-1 z
+     *                                                           (Woodbury; conjugate gradients)
+     *
+     * with z = 2 M_b u + xi, u' = (M_b + c R)^-1 z - u. Each solve is preconditioned by every body's
+     * own blocks (fixed in its frame, so factorised once per body type) and stopped at relative
+     * residual tolerance; one that does not converge in maxIterations throws, saying which and what
+     * to do. normals: 3 per blob. The products of M are shared out by parallel.
+     */
+    KrylovIterations krylovFrictionStep(const std::vector<BodyState>& states, double viscosity, double kT, double h, const Eigen::VectorXd& normals,
+                                        Eigen::VectorXd& u, double tolerance, int maxIterations,
+                                        const KrylovSolvers::ParallelFor& parallel = KrylovSolvers::sequentially) const;
 private:
     struct TypeBlobs {
         std::vector<OpenMM::Vec3> coords;
         std::vector<double> radii;
         Matrix6 calibration;  // body frame, zero outside the type's active coordinates
+        Eigen::MatrixXd velocities;                     // body-frame blob velocities from the active generalised velocities: K' in the body frame
+        Eigen::LLT<Eigen::MatrixXd> selfMobility;       // the blobs' own M block (body frame), factorised
+        mutable double frictionScale;                   // the c of friction below
+        mutable Eigen::LLT<Eigen::MatrixXd> friction;   // M/c + K' M_b^-1 K'^T for this body alone (body frame), factorised
     };
+    /** The blobs' lab positions and radii, all bodies in order. */
+    void placeBlobs(const std::vector<BodyState>& states, std::vector<OpenMM::Vec3>& positions, std::vector<double>& radii) const;
     const RigidBodyModel& model;
     std::vector<TypeBlobs> types;
     std::vector<int> firstCoordinate;

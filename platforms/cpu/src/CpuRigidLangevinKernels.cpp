@@ -5,6 +5,7 @@
 #include "openmm/internal/OSRngSeed.h"
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <istream>
 #include <ostream>
 
@@ -43,6 +44,30 @@ void CpuIntegrateRigidLangevinStepKernel::initialize(const System& system, const
     for (int c = 0; c < numChunks; c++)
         streams.emplace_back(new RandomStream(chunkSeed(seed, c)));
     setChunks(numBodies, std::move(streams));
+}
+
+bool CpuIntegrateRigidLangevinStepKernel::useKrylovSolvers(int numBlobs) const {
+    const char* setting = std::getenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER");
+    if (setting != NULL && std::string(setting) == "krylov")
+        return true;
+    if (setting != NULL && std::string(setting) == "dense")
+        return false;
+    if (setting != NULL && std::string(setting) != "")
+        throw OpenMMException("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER is '"+std::string(setting)+"': set it to dense or krylov, or unset it");
+    return numBlobs >= KrylovMinBlobs;
+}
+
+void CpuIntegrateRigidLangevinStepKernel::parallelFor(int count, const std::function<void (int, int)>& task) {
+    const int numThreads = threads.getNumThreads();
+    if (numThreads == 1 || count < 64) {
+        task(0, count);
+        return;
+    }
+    // Each thread takes whole rows, so the results do not depend on the number of threads.
+    threads.execute([&] (ThreadPool& pool, int thread) {
+        task((int) ((long long) count*thread/numThreads), (int) ((long long) count*(thread+1)/numThreads));
+    });
+    threads.waitForThreads();
 }
 
 void CpuIntegrateRigidLangevinStepKernel::forEachChunk(const std::function<void (int, int, int)>& task) {

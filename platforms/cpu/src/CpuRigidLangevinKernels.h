@@ -34,7 +34,16 @@ public:
     static const int MaxChunks = 64;
     /** Below this many bodies the chunks are run on the calling thread. */
     static const int MinBodiesForThreads = 200;
+    /**
+     * From this many blobs the coupled friction step (hydrodynamic interactions in an unbounded
+     * solvent) is matrix-free (Krylov), below it dense. The environment variable
+     * RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER=dense or =krylov chooses one whatever the size (the tests
+     * run both on small systems).
+     */
+    static const int KrylovMinBlobs = 400;
 protected:
+    bool useKrylovSolvers(int numBlobs) const;
+    void parallelFor(int count, const std::function<void (int, int)>& task);
     void forEachChunk(const std::function<void (int, int, int)>& task);
     void createRandomCheckpoint(std::ostream& stream);
     void loadRandomCheckpoint(std::istream& stream);
