@@ -18,6 +18,7 @@
 #include "CoupledResistance.h"
 #include "ResistanceTensor.h"
 #include "RigidBodyTestUtilities.h"
+#include "openmm/CustomBondForce.h"
 #include "openmm/CustomExternalForce.h"
 #include "openmm/NonbondedForce.h"
 #include "openmm/OpenMMException.h"
@@ -384,6 +385,68 @@ TEST_P(HydrodynamicInteractions, TemperaturesAndTrapEnergyAreExact) {
         std::cout << GetParam() << ": " << c.name << " " << c.series.mean() << " +- " << c.series.standardError() << ", exact " << c.exact << std::endl;
         EXPECT_LT(3*c.series.standardError(), 0.03*c.exact) << c.name;
         EXPECT_NEAR(c.series.mean(), c.exact, 0.03*c.exact) << c.name;
+    }
+}
+
+TEST_P(HydrodynamicInteractions, BoundPairsSampleTheSameDistributionWithAndWithoutThem) {
+    if (refusedOnThisPlatform(GetParam()))
+        return;
+    // Hydrodynamic interactions change dynamics, never statics. Six pairs of spheres (one blob of
+    // radius 0.1 nm each, 50 nm between pairs), each pair bound by a spring k r^2/2: the separation's
+    // moments are <r^2> = 3 kT/k and <r^4> = 15 (kT/k)^2 exactly, with interactions and without
+    // (r is 0.33 nm rms, so the blobs overlap a third of the time, where the regularised kernel
+    // holds). Each run against the exact values within four standard errors (the errors a few per
+    // cent: a noise of the wrong strength fails), and the two runs against each other.
+    const double temperature = 300, k = 70, kT = BOLTZ*temperature;
+    const int numPairs = 6;
+    const int numSamples = (runsEveryStatisticalCase(GetParam()) ? 3000 : 1500);
+    Series moments[2][2];  // [interactions][r^2, r^4]
+    for (int on = 0; on < 2; on++) {
+        System system;
+        CustomBondForce* spring = new CustomBondForce("0.5*k*r^2");
+        spring->addGlobalParameter("k", k);
+        system.addForce(spring);
+        RigidLangevinIntegrator integrator(temperature, 100, 0.01);
+        integrator.setScheme(RigidLangevinIntegrator::BAOAB);
+        integrator.setHydrodynamicInteractions(on == 1);
+        integrator.setRandomNumberSeed(31+on);
+        std::vector<Vec3> positions;
+        for (int p = 0; p < numPairs; p++) {
+            for (int i = 0; i < 2; i++) {
+                integrator.setParticleRadius(system.addParticle(10.0), 0.1);
+                positions.push_back(Vec3(50.0*p+0.3*i, 0, 0));
+            }
+            spring->addBond(2*p, 2*p+1);
+        }
+        std::unique_ptr<Context> context(createContext(system, integrator, GetParam()));
+        context->setPositions(positions);
+        context->setVelocitiesToTemperature(temperature, 5+on);
+        integrator.step(500);
+        for (int s = 0; s < numSamples; s++) {
+            integrator.step(25);
+            std::vector<Vec3> pos = context->getState(State::Positions).getPositions();
+            double r2 = 0, r4 = 0;
+            for (int p = 0; p < numPairs; p++) {
+                Vec3 d = pos[2*p+1]-pos[2*p];
+                r2 += d.dot(d)/numPairs;
+                r4 += d.dot(d)*d.dot(d)/numPairs;
+            }
+            moments[on][0].add(r2);
+            moments[on][1].add(r4);
+        }
+    }
+    const double exact[2] = {3*kT/k, 15*(kT/k)*(kT/k)};
+    const char* names[2] = {"<r^2>", "<r^4>"};
+    for (int m = 0; m < 2; m++) {
+        for (int on = 0; on < 2; on++) {
+            const Series& series = moments[on][m];
+            std::cout << GetParam() << ": " << names[m] << (on ? " with" : " without") << " interactions " << series.mean() << " +- "
+                      << series.standardError() << ", exact " << exact[m] << std::endl;
+            EXPECT_LT(series.standardError(), 0.06*exact[m]) << names[m];
+            EXPECT_NEAR(series.mean(), exact[m], 4*series.standardError()) << names[m] << (on ? " with" : " without") << " interactions";
+        }
+        double both = std::hypot(moments[0][m].standardError(), moments[1][m].standardError());
+        EXPECT_NEAR(moments[1][m].mean(), moments[0][m].mean(), 4*both) << names[m] << ": with against without";
     }
 }
 
