@@ -304,3 +304,21 @@ def test_paired_times_take_each_blocks_closing_state_off_and_alternate_the_order
     # Steps per context (internal_interactions.py's, whose two costs differ a hundredfold): still per step.
     times = benchmark_utils.paired_times({'fast': (fast, fast), 'slow': (slow, slow)}, steps={'fast': 20, 'slow': 5}, pairs=2)
     assert all(0.0018 < t < 0.0026 for t in times['fast']) and all(0.0038 < t < 0.0056 for t in times['slow']), times
+
+
+def test_hydrodynamic_interactions_benchmark_runs_each_solver(tmp_path, monkeypatch):
+    """benchmarks/platforms/hydrodynamic_interactions.py: its scenes have the bodies and blobs it names,
+    and one small measurement times every solver, each against the same bodies without interactions."""
+    sys.path.insert(0, str(ROOT/'benchmarks'/'platforms'))
+    import benchmark_utils
+    import hydrodynamic_interactions as bench
+    monkeypatch.setattr(benchmark_utils, 'RESULTS', str(tmp_path))
+    for blobs_per_body in (1, 4, 12):
+        system, make_integrator, positions = bench.scene(5, blobs_per_body)
+        integrator = make_integrator(True)
+        assert integrator.getNumRigidBodies() == 5 and system.getNumParticles() == 5*blobs_per_body == len(positions)
+        assert integrator.getHydrodynamicInteractions()
+    rows = bench.measure(4, 4, pairs=2)
+    assert [r['solver'] for r in rows] == ['off', 'dense', 'krylov']
+    assert all(float(r['ms_per_step']) > 0 for r in rows) and rows[0]['ratio_to_off'] == '1'
+    assert 'RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER' not in bench.os.environ

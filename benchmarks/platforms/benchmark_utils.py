@@ -93,13 +93,15 @@ def sync_seconds(context, repeats=3):
     return best
 
 
-def paired_times(contexts, steps, pairs=5):
+def paired_times(contexts, steps, pairs=5, prepare=None):
     """Time per step (s) of each of several {key: (integrator, context)}: {key: [one per pair]}.
     In each pair every context runs one block of `steps` steps (or steps[key], for contexts whose
     steps differ by orders of magnitude in cost) closed by a State, in turn, so that
     all see the same machine load; the order is reversed every other pair so that none always
     follows another; each block's State is timed alone beforehand and subtracted. Ratios taken
-    pair by pair cancel the load the pair saw; mean_and_error gives their standard error."""
+    pair by pair cancel the load the pair saw; mean_and_error gives their standard error.
+    prepare: optionally {key: function}, called before each of that context's blocks (to set what
+    the context reads as it steps, such as an environment variable)."""
     sync = {key: sync_seconds(context) for key, (integrator, context) in contexts.items()}
     times = {key: [] for key in contexts}
     keys = list(contexts)
@@ -107,6 +109,8 @@ def paired_times(contexts, steps, pairs=5):
         for key in (keys if pair % 2 == 0 else keys[::-1]):
             integrator, context = contexts[key]
             block = steps[key] if isinstance(steps, dict) else steps
+            if prepare and key in prepare:
+                prepare[key]()
             start = time.perf_counter()
             integrator.step(block)
             context.getState(getPositions=True)

@@ -198,7 +198,7 @@ public:
      * blobs resolve their surfaces: a single blob is a far-field (Rotne-Prager) sphere; blobs on the
      * surface (ResistanceTensor::roughShellBeads()) converge to the exact two-body friction as they
      * are refined. The friction is recomputed every step, on the Reference and CPU platforms:
-     * dense on Reference (Cholesky; cost (3B)^3/3 for B blobs in all), and on CPU from 400 blobs
+     * dense on Reference (Cholesky; cost (3B)^3/3 for B blobs in all), and on CPU from 100 blobs
      * in an unbounded solvent matrix-free (conjugate gradients for the friction, Lanczos for the
      * noise, each preconditioned by every body's own blocks, to a relative residual of 1e-10; a
      * solve that does not converge throws), dense below that and in a periodic box. In a periodic System the blobs feel

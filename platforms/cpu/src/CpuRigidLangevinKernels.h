@@ -40,7 +40,7 @@ public:
      * RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER=dense or =krylov chooses one whatever the size (the tests
      * run both on small systems).
      */
-    static const int KrylovMinBlobs = 400;
+    static const int KrylovMinBlobs = 100;
 protected:
     bool useKrylovSolvers(int numBlobs) const;
     void parallelFor(int count, const std::function<void (int, int)>& task);
