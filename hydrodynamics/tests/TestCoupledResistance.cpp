@@ -175,6 +175,14 @@ TEST(CoupledResistance, TwoSpheresConvergeToJeffreyOnishi) {
         EXPECT_NEAR(fine.value[k], exact, (k == 6 ? 0.012 : 0.007)*std::abs(exact)) << FunctionNames[k];
         EXPECT_LT(std::abs(fine.value[k]-exact), std::abs(coarse.value[k]-exact)) << FunctionNames[k];
     }
+    // Two spheres settling in line under equal forces (no rotation, by symmetry) move at
+    // 1/(X11A + X12A) = 1.34724 times a lone sphere's speed (Stimson & Jeffery's problem, here from
+    // Jeffrey & Onishi's functions): within 0.5% at 600 blobs a sphere, closer than at 300.
+    const double exactSettling = 1/(JeffreyOnishi4[0]+JeffreyOnishi4[2]);
+    EXPECT_NEAR(exactSettling, 1.34724, 1e-5);
+    double fineSettling = 1/(fine.value[0]+fine.value[2]), coarseSettling = 1/(coarse.value[0]+coarse.value[2]);
+    EXPECT_NEAR(fineSettling, exactSettling, 0.005*exactSettling);
+    EXPECT_LT(std::abs(fineSettling-exactSettling), std::abs(coarseSettling-exactSettling));
 }
 
 TEST(CoupledResistance, RejectsBadInput) {
