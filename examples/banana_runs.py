@@ -122,6 +122,19 @@ def scene_box_run(pentanes, picoseconds, seed, platform, properties=None, sample
     return np.array(volumes)
 
 
+def explicit_integrator(system, bodies, xi, viscosity_cp):
+    """This integrator for the explicit scene at viscosity_cp: the bananas bodies with their tensor,
+    the pentane sites free particles of Stokes radius SITE_RADIUS (friction only while thermostatted)."""
+    integrator = rl.RigidLangevinIntegrator(TEMPERATURE, viscosity_cp*rl.centipoise, EXPLICIT_STEP)
+    add_bodies(integrator, bodies, xi)
+    masses = particle_masses(system)
+    in_body = np.zeros(len(masses), dtype=bool)
+    in_body[np.array(bodies).ravel()] = True
+    for i in np.flatnonzero((masses > 0) & ~in_body):
+        integrator.setParticleRadius(int(i), SITE_RADIUS)
+    return integrator
+
+
 def explicit_replica(settings, box, xi, weights, seed, platform, properties=None):
     """Two bananas among settings['pentanes'] pentanes in a cubic box (nm), from a lattice: melted
     for melt_ps at 1 cP and equilibrated for equilibration_ps at 0.01 cP under this integrator
@@ -133,14 +146,9 @@ def explicit_replica(settings, box, xi, weights, seed, platform, properties=None
     which bodies take exactly). Returns the observables, the temperature and total energy every
     COARSE_PS, the target energy, and the run's speed."""
     system, positions, bodies, _ = bm.pentane_box(settings['pentanes'], box, seed, bananas=2)
-    integrator = rl.RigidLangevinIntegrator(TEMPERATURE, MELT_VISCOSITY*rl.centipoise, EXPLICIT_STEP)
+    integrator = explicit_integrator(system, bodies, xi, MELT_VISCOSITY)
     integrator.setRandomNumberSeed(seed)
-    add_bodies(integrator, bodies, xi)
     masses = particle_masses(system)
-    in_body = np.zeros(len(masses), dtype=bool)
-    in_body[np.array(bodies).ravel()] = True
-    for i in np.flatnonzero((masses > 0) & ~in_body):
-        integrator.setParticleRadius(int(i), SITE_RADIUS)
     context = mm.Context(system, integrator, mm.Platform.getPlatformByName(platform), properties or {})
     context.setPositions(positions)
     context.setVelocitiesToTemperature(TEMPERATURE, seed)
