@@ -296,14 +296,16 @@ def test_paired_times_take_each_blocks_closing_state_off_and_alternate_the_order
     fast, slow = Stand('fast', 0.002), Stand('slow', 0.004)
     times = benchmark_utils.paired_times({'fast': (fast, fast), 'slow': (slow, slow)}, steps=10, pairs=4)
     assert calls == ['fast', 'slow', 'slow', 'fast', 'fast', 'slow', 'slow', 'fast']
-    assert all(0.0018 < t < 0.0026 for t in times['fast']), times
-    assert all(0.0038 < t < 0.0046 for t in times['slow']), times
+    # Upper bounds with room for time.sleep's late wake-ups on a loaded machine (a 20 ms sleep seen to
+    # end 9 ms late under the full test run), still far below the 5 and 7 ms the State would give.
+    assert all(0.0018 < t < 0.0035 for t in times['fast']), times
+    assert all(0.0038 < t < 0.0056 for t in times['slow']), times
     ratio, error = benchmark_utils.mean_and_error(np.array(times['slow'])/np.array(times['fast']))
     assert abs(ratio-2) < 0.2 and error < 0.1
     assert np.allclose(benchmark_utils.mean_and_error([1.0, 2.0, 3.0, 6.0]), (3.0, np.std([1, 2, 3, 6], ddof=1)/2))
     # Steps per context (internal_interactions.py's, whose two costs differ a hundredfold): still per step.
     times = benchmark_utils.paired_times({'fast': (fast, fast), 'slow': (slow, slow)}, steps={'fast': 20, 'slow': 5}, pairs=2)
-    assert all(0.0018 < t < 0.0026 for t in times['fast']) and all(0.0038 < t < 0.0056 for t in times['slow']), times
+    assert all(0.0018 < t < 0.0035 for t in times['fast']) and all(0.0038 < t < 0.0056 for t in times['slow']), times
 
 
 def test_hydrodynamic_interactions_benchmark_runs_each_solver(tmp_path, monkeypatch):
