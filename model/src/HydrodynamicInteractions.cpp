@@ -170,7 +170,7 @@ void RigidLangevinPlugin::midpointFrictionStep(const Eigen::MatrixXd& resistance
 }
 
 HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrictionStep(const vector<BodyState>& states, double viscosity, double kT, double h,
-        const Eigen::VectorXd& normals, Eigen::VectorXd& u, double tolerance, int maxIterations, const KrylovSolvers::ParallelFor& parallel) const {
+        const Eigen::VectorXd& normals, Eigen::VectorXd& u, double tolerance, int maxIterations, BlobMobility& blobMobility) const {
     using Eigen::VectorXd;
     const int numBodies = model.getNumBodies();
     vector<Vec3> positions;
@@ -227,15 +227,9 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
             out.segment(firstCoordinate[b], blobs.velocities.cols()) = blobs.velocities.transpose()*bodyBlobs(f, b, true);
         }
     };
-    // Up to MaxStoredMobilityBlobs blobs M is formed once (its lower triangle) and each product is a
-    // matrix-vector product, several times cheaper than evaluating every pair's block again.
-    const bool stored = (numBlobs <= MaxStoredMobilityBlobs);
-    Eigen::MatrixXd storedMobility = (stored ? CoupledResistanceMath::mobilityMatrix(positions, radii, parallel) : Eigen::MatrixXd());
+    blobMobility.setBlobs(positions, radii);
     KrylovSolvers::Operator mobility = [&] (const VectorXd& f, VectorXd& out) {
-        if (stored)
-            out.noalias() = storedMobility.selfadjointView<Eigen::Lower>()*f;
-        else
-            CoupledResistanceMath::mobilityProduct(positions, radii, f, out, parallel);
+        blobMobility.multiply(f, out);
     };
     // Every body's own block solved in its frame.
     auto blockSolver = [&] (bool friction) {

@@ -197,11 +197,14 @@ public:
      * setBodyResistance()), whatever its blobs. The coupling between bodies is as accurate as their
      * blobs resolve their surfaces: a single blob is a far-field (Rotne-Prager) sphere; blobs on the
      * surface (ResistanceTensor::roughShellBeads()) converge to the exact two-body friction as they
-     * are refined. The friction is recomputed every step, on the Reference and CPU platforms:
-     * dense on Reference (Cholesky; cost (3B)^3/3 for B blobs in all), and on CPU from 100 blobs
-     * in an unbounded solvent matrix-free (conjugate gradients for the friction, Lanczos for the
-     * noise, each preconditioned by every body's own blocks, to a relative residual of 1e-10; a
-     * solve that does not converge throws), dense below that and in a periodic box. In a periodic System the blobs feel
+     * are refined. The friction is recomputed every step, on every platform, in double precision:
+     * dense on Reference (Cholesky; cost (3B)^3/3 for B blobs in all), and on CPU, OpenCL and CUDA
+     * from 100 blobs in an unbounded solvent matrix-free (conjugate gradients for the friction,
+     * Lanczos for the noise, each preconditioned by every body's own blocks, to a relative residual
+     * of 1e-10; a solve that does not converge throws), dense below that and in a periodic box. On
+     * OpenCL and CUDA the coupled step is taken on the host, the blobs' mobility products of the
+     * Krylov solves on the device (a tiled kernel, double precision; a device without double
+     * precision is refused). In a periodic System the blobs feel
      * every image of every body (an Ewald sum of their mobility, exact for any box; see
      * CoupledResistance::setPeriodicBox()), so a lone body in a box of side L is slowed by
      * Hasimoto's finite-size correction, about 2.84 a/L for a sphere of radius a.
@@ -209,8 +212,7 @@ public:
      * The step is BAOAB's (setScheme(BAOAB)) with the friction step the midpoint rule for all bodies
      * at once: it keeps the Maxwell distribution of velocities exactly at any friction and step,
      * and the long-time diffusion of a free body exact. Creating a Context or stepping with
-     * interactions under another scheme throws, as does a platform that does not have them yet
-     * (OpenCL, CUDA).
+     * interactions under another scheme throws.
      */
     void setHydrodynamicInteractions(bool enabled);
     /** Get whether bodies are coupled through the solvent (setHydrodynamicInteractions()). */

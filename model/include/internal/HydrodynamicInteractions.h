@@ -1,7 +1,7 @@
 #ifndef RIGID_LANGEVIN_HYDRODYNAMIC_INTERACTIONS_H_
 #define RIGID_LANGEVIN_HYDRODYNAMIC_INTERACTIONS_H_
 
-#include "internal/KrylovSolvers.h"
+#include "internal/BlobMobility.h"
 #include "internal/RigidBodyModel.h"
 #include <Eigen/Cholesky>
 #include "internal/windowsExportRigidLangevin.h"
@@ -44,9 +44,6 @@ public:
     Eigen::VectorXd getVelocities(const std::vector<BodyState>& states) const;
     /** Set the velocities and angular momenta of the states from generalised velocities. */
     void setVelocities(const Eigen::VectorXd& u, std::vector<BodyState>& states) const;
-    /** Up to this many blobs krylovFrictionStep() forms M once a step (8 (3B)^2 bytes, 130 MB here) and
-     *  multiplies by it; beyond, every product evaluates the pairs again (matrix-free). */
-    static const int MaxStoredMobilityBlobs = 1350;
     /** The iterations each Krylov method took in krylovFrictionStep() (0 for the noise's at zero temperature). */
     struct KrylovIterations {
         int noise, noiseSolve, friction;
@@ -64,11 +61,11 @@ public:
      * with z = 2 M_b u + xi, u' = (M_b + c R)^-1 z - u. Each solve is preconditioned by every body's
      * own blocks (fixed in its frame, so factorised once per body type) and stopped at relative
      * residual tolerance; one that does not converge in maxIterations throws, saying which and what
-     * to do. normals: 3 per blob. The products of M are shared out by parallel.
+     * to do. normals: 3 per blob. The products of M are mobility's (given the blobs here: on the
+     * host, HostBlobMobility; on a device, the platform's own).
      */
     KrylovIterations krylovFrictionStep(const std::vector<BodyState>& states, double viscosity, double kT, double h, const Eigen::VectorXd& normals,
-                                        Eigen::VectorXd& u, double tolerance, int maxIterations,
-                                        const KrylovSolvers::ParallelFor& parallel = KrylovSolvers::sequentially) const;
+                                        Eigen::VectorXd& u, double tolerance, int maxIterations, BlobMobility& mobility) const;
 private:
     struct TypeBlobs {
         std::vector<OpenMM::Vec3> coords;

@@ -9,6 +9,13 @@
 #include <numeric>
 #include <random>
 
+// The device's normal numbers (kernels/rigidBodyRandom.cc, written to compile on the host too), for
+// the coupled step taken on the host.
+#define DEVICE static inline
+typedef unsigned long long mm_ulong;
+#include "kernels/rigidBodyRandom.cc"
+#undef DEVICE
+
 using namespace RigidLangevinPlugin;
 using namespace RigidLangevinPlugin::RigidBodyKernelLayout;
 using namespace OpenMM;
@@ -460,7 +467,9 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
     const double h = integrator.getStepSize();
     const RigidLangevinIntegrator::Scheme scheme = integrator.getScheme();
     const bool frictionless = (integrator.getViscosity() == 0);
-    if (numBodies > 0) {
+    if (numBodies > 0 && interactions && !frictionless)
+        takeCoupledStep(context, integrator, removeMotion);
+    else if (numBodies > 0) {
         if (removeMotion) {
             setMixedArg(centerOfMassKernel, 1, 1.0/model->getTotalMass(), mixedIsDouble);
             centerOfMassKernel->execute(ReductionGroupSize, ReductionGroupSize);
@@ -492,6 +501,64 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
     cc.setTime(cc.getTime()+h);
     cc.setStepCount(cc.getStepCount()+1);
     cc.reorderAtoms();
+}
+
+void CommonIntegrateRigidLangevinStepKernel::takeCoupledStep(ContextImpl& context, const RigidLangevinIntegrator& integrator, bool removeMotion) {
+    const double h = integrator.getStepSize();
+    vector<BodyState> states;
+    downloadBodyStates(context, states);
+    vector<Vec3> forces;
+    context.getForces(forces);
+    Vec3 centerOfMassVelocity;
+    if (removeMotion) {
+        for (int b = 0; b < numBodies; b++)
+            centerOfMassVelocity += states[b].velocity*model->getType(model->getBodyType(b)).mass;
+        centerOfMassVelocity /= model->getTotalMass();
+    }
+    for (int b = 0; b < numBodies; b++) {
+        const BodyType& type = model->getType(model->getBodyType(b));
+        BodyState& s = states[b];
+        // Orthonormal again in double precision (single precision stores the rotation rounded).
+        Vec3 row0(s.rotation[0][0], s.rotation[0][1], s.rotation[0][2]), row1(s.rotation[1][0], s.rotation[1][1], s.rotation[1][2]);
+        row0 /= std::sqrt(row0.dot(row0));
+        row1 -= row0*row0.dot(row1);
+        row1 /= std::sqrt(row1.dot(row1));
+        Vec3 row2 = row0.cross(row1);
+        for (int j = 0; j < 3; j++) {
+            s.rotation[0][j] = row0[j];
+            s.rotation[1][j] = row1[j];
+            s.rotation[2][j] = row2[j];
+        }
+        s.velocity -= centerOfMassVelocity;
+        // Force and torque as the step kernels gather them: a site's force is already its parents'.
+        Vec3 force, torque;
+        BodyParticles particles = model->getBodyParticles(b);
+        for (int i = 0; i < particles.size(); i++) {
+            if (type.isVirtualSite[i])
+                continue;
+            force += forces[particles[i]];
+            if (type.numRotations > 0)
+                torque += type.coords[i].cross(BodyDynamics::toBody(s.rotation, forces[particles[i]]));
+        }
+        BodyDynamics::kick(s, type, force, torque, h);
+        BodyDynamics::drift(s, type, 0.5*h);
+    }
+    if (!blobMobility)
+        blobMobility.reset(new CommonBlobMobility(cc));
+    // Four normal numbers per counter, the counters apart from the step kernels' (their draw index
+    // is below MaxRandomFloat4PerBody).
+    const unsigned int CoupledDraw = 0x48490000u;
+    int drawn = 0;
+    float normals[4];
+    coupledFrictionStep(context, integrator, states, [&] () {
+        if (drawn%4 == 0)
+            normalFloat4(randomSeed, drawn/4, CoupledDraw, randomStep, normals);
+        return (double) normals[drawn++%4];
+    }, *blobMobility);
+    randomStep++;
+    for (int b = 0; b < numBodies; b++)
+        BodyDynamics::drift(states[b], model->getType(model->getBodyType(b)), 0.5*h);
+    uploadBodyStates(context, states);
 }
 
 void CommonIntegrateRigidLangevinStepKernel::computeBodyKineticEnergies(ContextImpl& context, double timeShift,

@@ -1,6 +1,7 @@
 #ifndef COMMON_RIGID_LANGEVIN_KERNELS_H_
 #define COMMON_RIGID_LANGEVIN_KERNELS_H_
 
+#include "CommonBlobMobility.h"
 #include "internal/RigidLangevinStepKernelBase.h"
 #include "openmm/common/ComputeArray.h"
 #include "openmm/common/ComputeContext.h"
@@ -23,6 +24,12 @@ namespace RigidLangevinPlugin {
  * (rigidBodyRandom.cc) keyed by the seed, with the body, the draw and randomStep as the counter: the
  * generator's state is the seed and randomStep, which the integrator's checkpoint holds.
  *
+ * With hydrodynamic interactions (and friction) a step couples all bodies at once: the bodies'
+ * states and the forces are read back, and the step is the host's in double precision
+ * (RigidLangevinStepKernelBase::coupledFrictionStep), with the products of the blobs' mobility of
+ * its Krylov solves on the device (CommonBlobMobility) and its normal numbers from the same
+ * counter-based generator, keyed by the seed and randomStep.
+ *
  * Body states are kept in the platform's "mixed" precision (double in mixed and double precision);
  * rotations are made orthonormal whenever read (rigidBodyAtoms.cc), so that rounding cannot
  * accumulate in single precision. When OpenMM reorders atoms (for its neighbour lists), a reorder
@@ -41,7 +48,14 @@ protected:
     void computeBodyKineticEnergies(OpenMM::ContextImpl& context, double timeShift, double& translational, double& rotational, OpenMM::Vec3& momentum);
     void createRandomCheckpoint(std::ostream& stream);
     void loadRandomCheckpoint(std::istream& stream);
+    /** As on the CPU (where it was measured); the crossover on a GPU is not yet measured. */
+    int getKrylovMinBlobs() const {
+        return 100;
+    }
 private:
+    /** A step of bodies coupled through the solvent (see the class description). */
+    void takeCoupledStep(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, bool removeMotion);
+    std::unique_ptr<CommonBlobMobility> blobMobility;
     class AtomOrderListener;
     /** Find where each body particle is stored now, and its periodic cell offset. */
     void updateAtomSlots();

@@ -46,17 +46,6 @@ void CpuIntegrateRigidLangevinStepKernel::initialize(const System& system, const
     setChunks(numBodies, std::move(streams));
 }
 
-bool CpuIntegrateRigidLangevinStepKernel::useKrylovSolvers(int numBlobs) const {
-    const char* setting = std::getenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER");
-    if (setting != NULL && std::string(setting) == "krylov")
-        return true;
-    if (setting != NULL && std::string(setting) == "dense")
-        return false;
-    if (setting != NULL && std::string(setting) != "")
-        throw OpenMMException("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER is '"+std::string(setting)+"': set it to dense or krylov, or unset it");
-    return numBlobs >= KrylovMinBlobs;
-}
-
 void CpuIntegrateRigidLangevinStepKernel::parallelFor(int count, const std::function<void (int, int)>& task) {
     const int numThreads = threads.getNumThreads();
     if (numThreads == 1 || count < 64) {

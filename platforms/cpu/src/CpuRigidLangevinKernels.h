@@ -36,13 +36,14 @@ public:
     static const int MinBodiesForThreads = 200;
     /**
      * From this many blobs the coupled friction step (hydrodynamic interactions in an unbounded
-     * solvent) is matrix-free (Krylov), below it dense. The environment variable
-     * RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER=dense or =krylov chooses one whatever the size (the tests
-     * run both on small systems).
+     * solvent) is matrix-free (Krylov), below it dense (measured: benchmarks/platforms/
+     * hydrodynamic_interactions.py); RigidLangevinStepKernelBase::useKrylovSolvers.
      */
     static const int KrylovMinBlobs = 100;
 protected:
-    bool useKrylovSolvers(int numBlobs) const;
+    int getKrylovMinBlobs() const {
+        return KrylovMinBlobs;
+    }
     void parallelFor(int count, const std::function<void (int, int)>& task);
     void forEachChunk(const std::function<void (int, int, int)>& task);
     void createRandomCheckpoint(std::ostream& stream);

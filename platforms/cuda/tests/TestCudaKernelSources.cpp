@@ -1,7 +1,7 @@
 /*
  * The common platforms' device source compiles for CUDA, in every precision, exactly as the CUDA
  * platform would compile it (StickyDipoleForce's pair term inside a stand-in for OpenMM's
- * nonbonded kernel, which declares what that kernel gives it): OpenMM's own CUDA prelude (CudaKernelSources::common and vectorOps,
+ * nonbonded kernel, which declares what that kernel gives it; the blobs' mobility kernel of hydrodynamic interactions): OpenMM's own CUDA prelude (CudaKernelSources::common and vectorOps,
  * read from libOpenMMCUDA), the precision's types, the plugin's definitions and source, through
  * NVRTC. NVRTC needs no GPU, so this runs wherever the CUDA toolkit is installed; the tests that
  * run the CUDA platform (the other runners in this directory) need a GPU.
@@ -110,6 +110,7 @@ std::string compositeSource(const CudaPrelude& prelude, const std::string& preci
     src << *prelude.vectorOps << RigidBodyKernelLayout::source() << "\n";
     src << CommonRigidLangevinKernelSources::stickyDipoleSites << "\n";
     src << stickyDipolePairKernel() << "\n";
+    src << "#define BLOB_TILE 64\n" << CommonRigidLangevinKernelSources::blobMobility << "\n";
     return src.str();
 }
 

@@ -89,25 +89,9 @@ protected:
     void uploadCoefficients(OpenMM::ContextImpl& context, const std::vector<TypeStepCoefficients>& c) {
         // The base class keeps them in `coefficients`; they are read in place.
     }
-    /** The Krylov solves' relative tolerance and iteration limit (HydrodynamicInteractions::krylovFrictionStep). */
-    static constexpr double KrylovTolerance = 1e-10;
-    static const int KrylovMaxIterations = 1000;
-    /** The iterations the last matrix-free coupled step took. */
-    HydrodynamicInteractions::KrylovIterations lastKrylovIterations = {0, 0, 0};
-    /**
-     * Whether the coupled friction step (hydrodynamic interactions, open boundaries) is taken
-     * matrix-free with Krylov solvers for this many blobs; otherwise dense (Cholesky), as Reference
-     * always does.
-     */
-    virtual bool useKrylovSolvers(int numBlobs) const {
-        return false;
-    }
     /** Run task over [0, count) in ranges, on the platform's threads where it has them. */
     virtual void parallelFor(int count, const std::function<void (int, int)>& task) {
         task(0, count);
-    }
-    bool supportsHydrodynamicInteractions() const {
-        return true;
     }
     void takeStep(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, bool removeMotion) {
         const double h = integrator.getStepSize();
@@ -167,6 +151,7 @@ protected:
     OpenMM::ReferencePlatform::PlatformData& data;
     std::vector<std::unique_ptr<RandomStream> > random;  // one per chunk
 private:
+    std::unique_ptr<HostBlobMobility> hostMobility;  // the blobs' mobility for matrix-free coupled steps, on this platform's threads
     /**
      * BAOAB with hydrodynamic interactions: every body's kick and half drift, the friction step of
      * all bodies at once (the midpoint rule with their coupled resistance at the half-drifted
@@ -189,27 +174,9 @@ private:
                 BodyDynamics::drift(s, type, 0.5*h);
             }
         });
-        OpenMM::Vec3 box[3];
-        const bool periodic = context.getSystem().usesPeriodicBoundaryConditions();
-        if (periodic)
-            context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-        Eigen::VectorXd u = interactions->getVelocities(states);
-        const double kT = BOLTZ*integrator.getTemperature();
-        if (!periodic && useKrylovSolvers(interactions->getNumBlobs())) {
-            Eigen::VectorXd normals(3*interactions->getNumBlobs());
-            for (int i = 0; i < normals.size(); i++)
-                normals[i] = (kT > 0 ? random[0]->random.next() : 0.0);
-            lastKrylovIterations = interactions->krylovFrictionStep(states, integrator.getViscosity(), kT, h, normals, u, KrylovTolerance, KrylovMaxIterations,
-                    [this] (int count, const std::function<void (int, int)>& task) { parallelFor(count, task); });
-        }
-        else {
-            Eigen::MatrixXd resistance = interactions->computeResistance(states, periodic ? box : NULL);
-            Eigen::VectorXd normals(u.size());
-            for (int i = 0; i < u.size(); i++)
-                normals[i] = random[0]->random.next();
-            midpointFrictionStep(resistance, interactions->getMasses(), integrator.getViscosity(), kT, h, normals, u);
-        }
-        interactions->setVelocities(u, states);
+        if (!hostMobility)
+            hostMobility.reset(new HostBlobMobility([this] (int count, const std::function<void (int, int)>& task) { parallelFor(count, task); }));
+        coupledFrictionStep(context, integrator, states, [this] () { return random[0]->random.next(); }, *hostMobility);
         forEachChunk([&] (int chunk, int begin, int end) {
             for (int b = begin; b < end; b++) {
                 BodyDynamics::drift(states[b], model->getType(model->getBodyType(b)), 0.5*h);

@@ -3,7 +3,9 @@
 #include "openmm/CMMotionRemover.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/ContextImpl.h"
+#include "openmm/reference/SimTKOpenMMRealType.h"
 #include <cmath>
+#include <cstdlib>
 #include <istream>
 #include <limits>
 #include <ostream>
@@ -60,12 +62,8 @@ void RigidLangevinStepKernelBase::initialize(const System& system, const RigidLa
     }
     checkMotionRemover(integrator.getViscosity());
     interactionsEnabled = integrator.getHydrodynamicInteractions();
-    if (interactionsEnabled) {
-        if (!supportsHydrodynamicInteractions())
-            throw OpenMMException("RigidLangevinIntegrator: hydrodynamic interactions are not yet available on the "+getPlatform().getName()+
-                    " platform; use the Reference or CPU platform, or setHydrodynamicInteractions(false)");
+    if (interactionsEnabled)
         checkInteractionScheme(integrator);
-    }
 }
 
 void RigidLangevinStepKernelBase::checkInteractionScheme(const RigidLangevinIntegrator& integrator) const {
@@ -77,6 +75,47 @@ void RigidLangevinStepKernelBase::checkInteractionScheme(const RigidLangevinInte
 void RigidLangevinStepKernelBase::initializeInteractions() {
     if (interactionsEnabled)
         interactions.reset(new HydrodynamicInteractions(*model));
+}
+
+bool RigidLangevinStepKernelBase::useKrylovSolvers(int numBlobs) const {
+    const int minBlobs = getKrylovMinBlobs();
+    if (minBlobs < 0)
+        return false;
+    const char* setting = std::getenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER");
+    if (setting != NULL && std::string(setting) == "krylov")
+        return true;
+    if (setting != NULL && std::string(setting) == "dense")
+        return false;
+    if (setting != NULL && std::string(setting) != "")
+        throw OpenMMException("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER is '"+std::string(setting)+"': set it to dense or krylov, or unset it");
+    return numBlobs >= minBlobs;
+}
+
+void RigidLangevinStepKernelBase::coupledFrictionStep(ContextImpl& context, const RigidLangevinIntegrator& integrator, vector<BodyState>& states,
+                                                      const std::function<double ()>& normal, BlobMobility& mobility) {
+    const double h = integrator.getStepSize();
+    Vec3 box[3];
+    const bool periodic = context.getSystem().usesPeriodicBoundaryConditions();
+    if (periodic)
+        context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    Eigen::VectorXd u = interactions->getVelocities(states);
+    const double kT = BOLTZ*integrator.getTemperature();
+    if (!periodic && useKrylovSolvers(interactions->getNumBlobs())) {
+        Eigen::VectorXd normals(3*interactions->getNumBlobs());
+        for (int i = 0; i < normals.size(); i++)
+            normals[i] = (kT > 0 ? normal() : 0.0);
+        lastKrylovIterations = interactions->krylovFrictionStep(states, integrator.getViscosity(), kT, h, normals, u, KrylovTolerance,
+                                                                KrylovMaxIterations, mobility);
+    }
+    else {
+        Eigen::MatrixXd resistance = interactions->computeResistance(states, periodic ? box : NULL);
+        Eigen::VectorXd normals(u.size());
+        for (int i = 0; i < u.size(); i++)
+            normals[i] = normal();
+        midpointFrictionStep(resistance, interactions->getMasses(), integrator.getViscosity(), kT, h, normals, u);
+        lastKrylovIterations = {0, 0, 0};
+    }
+    interactions->setVelocities(u, states);
 }
 
 void RigidLangevinStepKernelBase::checkMotionRemover(double viscosity) const {

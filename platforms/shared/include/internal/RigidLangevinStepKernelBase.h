@@ -6,6 +6,7 @@
 #include "internal/RigidBodyModel.h"
 #include "internal/StepCoefficients.h"
 #include "internal/windowsExportRigidLangevin.h"
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -56,12 +57,35 @@ protected:
     virtual void createRandomCheckpoint(std::ostream& stream) = 0;
     virtual void loadRandomCheckpoint(std::istream& stream) = 0;
     /**
-     * Whether this platform couples bodies through the solvent (RigidLangevinIntegrator::
-     * setHydrodynamicInteractions()); a Context with interactions on a platform without them is refused.
+     * The fewest blobs for which this platform takes the coupled friction step matrix-free (Krylov
+     * solvers), or -1 for never (Reference: dense and exact, the definition of correct).
      */
-    virtual bool supportsHydrodynamicInteractions() const {
-        return false;
+    virtual int getKrylovMinBlobs() const {
+        return -1;
     }
+    /**
+     * Whether the coupled friction step of this many blobs (open boundaries) is matrix-free: never
+     * where getKrylovMinBlobs() is -1; else as the environment variable
+     * RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER (dense or krylov) says whatever the size (the tests run
+     * both on small systems), or from getKrylovMinBlobs() blobs. Throws on any other value.
+     */
+    bool useKrylovSolvers(int numBlobs) const;
+    /** The Krylov solves' relative tolerance and iteration limit (HydrodynamicInteractions::krylovFrictionStep). */
+    static constexpr double KrylovTolerance = 1e-10;
+    static const int KrylovMaxIterations = 1000;
+    /**
+     * The friction step of bodies coupled through the solvent (BAOAB's O step for all bodies at
+     * once), on the host in double precision, for the bodies' states after the first half drift:
+     * the midpoint rule with their coupled resistance, dense (in the System's periodic box if it
+     * has one) or, with open boundaries and useKrylovSolvers(), matrix-free with mobility's
+     * products. normal() gives the standard normal numbers (one per coordinate when dense; three
+     * per blob, only at a nonzero temperature, when matrix-free). Every platform takes this same
+     * step; they differ only in where the products of the blobs' mobility are computed.
+     */
+    void coupledFrictionStep(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, std::vector<BodyState>& states,
+                             const std::function<double ()>& normal, BlobMobility& mobility);
+    /** The iterations the last coupled friction step's Krylov solves took (all zero after a dense one). */
+    HydrodynamicInteractions::KrylovIterations lastKrylovIterations = {0, 0, 0};
     /** Fit the bodies to the particles if those were set from outside since the last step. */
     void updateBodies(OpenMM::ContextImpl& context);
     std::unique_ptr<RigidBodyModel> model;

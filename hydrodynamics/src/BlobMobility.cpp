@@ -1,0 +1,20 @@
+#include "internal/BlobMobility.h"
+#include "internal/CoupledResistanceMath.h"
+
+using namespace RigidLangevinPlugin;
+
+void HostBlobMobility::setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii) {
+    this->positions = positions;
+    this->radii = radii;
+    if ((int) positions.size() <= MaxStoredBlobs)
+        stored = CoupledResistanceMath::mobilityMatrix(positions, radii, parallel);
+    else
+        stored.resize(0, 0);
+}
+
+void HostBlobMobility::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out) {
+    if (stored.size() > 0)
+        out.noalias() = stored.selfadjointView<Eigen::Lower>()*f;
+    else
+        CoupledResistanceMath::mobilityProduct(positions, radii, f, out, parallel);
+}

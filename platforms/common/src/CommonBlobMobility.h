@@ -1,0 +1,34 @@
+#ifndef COMMON_BLOB_MOBILITY_H_
+#define COMMON_BLOB_MOBILITY_H_
+
+#include "internal/BlobMobility.h"
+#include "openmm/common/ComputeArray.h"
+#include "openmm/common/ComputeContext.h"
+
+namespace RigidLangevinPlugin {
+
+/**
+ * The blobs' mobility products for the Krylov solves of bodies coupled through the solvent,
+ * computed on the device of a common compute platform: matrix-free, tiled (kernels/blobMobility.cc),
+ * in double precision whatever the platform's precision. The blobs are uploaded once per step
+ * (setBlobs), each product's force and velocity once per product; the solvers themselves run on
+ * the host (HydrodynamicInteractions::krylovFrictionStep), as on the CPU, so that every platform
+ * takes the same Krylov steps. Throws an OpenMMException if the device has no double precision.
+ */
+class CommonBlobMobility : public BlobMobility {
+public:
+    explicit CommonBlobMobility(OpenMM::ComputeContext& cc);
+    void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii);
+    void multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out);
+    /** Blobs per work group (and per tile of local memory). */
+    static const int TileSize = 64;
+private:
+    OpenMM::ComputeContext& cc;
+    OpenMM::ComputeKernel kernel;
+    OpenMM::ComputeArray blobs, force, velocity;
+    int numBlobs;
+};
+
+} // namespace RigidLangevinPlugin
+
+#endif /*COMMON_BLOB_MOBILITY_H_*/
