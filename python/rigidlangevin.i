@@ -108,6 +108,9 @@ class ResistanceTensor;
 %pythonappend RigidLangevinIntegrator::getRigidBodyParticles %{
     val = tuple(val)
 %}
+%pythonappend RigidLangevinIntegrator::getKrylovIterations %{
+    val = tuple(val)
+%}
 %pythonprepend RigidLangevinIntegrator::setBodyResistance %{
     tensor = _units.tensor_values(tensor)
 %}
@@ -159,6 +162,7 @@ public:
     double getParticleRadius(int particle) const;
     void setHydrodynamicInteractions(bool enabled);
     bool getHydrodynamicInteractions() const;
+    std::vector<int> getKrylovIterations() const;
     void setBodyBlobs(int index, const std::vector<Vec3>& blobPositions, const std::vector<double>& blobRadii,
                       const std::vector<Vec3>& referencePositions);
     void clearBodyBlobs(int index);

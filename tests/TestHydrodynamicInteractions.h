@@ -25,6 +25,7 @@
 #include "openmm/NonbondedForce.h"
 #include "openmm/OpenMMException.h"
 #include <gtest/gtest.h>
+#include <cstdlib>
 #include <sstream>
 #include <memory>
 #include <random>
@@ -461,6 +462,44 @@ TEST_P(HydrodynamicInteractions, CheckpointContinuesTheSameTrajectory) {
         ASSERT_EQ(first.getVelocities()[i], second.getVelocities()[i]) << "particle " << i;
     }
     EXPECT_GT(std::sqrt((first.getPositions()[0]-cluster.positions[0]).dot(first.getPositions()[0]-cluster.positions[0])), 1e-4);
+}
+
+TEST_P(HydrodynamicInteractions, ReportsItsKrylovIterations) {
+    // getKrylovIterations(): after a matrix-free step, each of the three solves took between one
+    // and 1000 iterations (these three bodies of 15 blobs take a few dozen); after a dense step, and
+    // always on Reference (dense by definition), zeros. The solver is chosen as users choose it, by
+    // RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER, restored afterwards.
+    const char* before = std::getenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER");
+    const std::string saved = (before == NULL ? "" : before);
+    for (std::string solver : {"krylov", "dense"}) {
+        setenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER", solver.c_str(), 1);
+        RigidLangevinIntegrator integrator(300, 300, 0.004);
+        integrator.setScheme(RigidLangevinIntegrator::BAOAB);
+        integrator.setHydrodynamicInteractions(true);
+        integrator.setRandomNumberSeed(5);
+        Cluster cluster(integrator, {Vec3(0, 0, 0), Vec3(0.3, 0.1, 0), Vec3(0.1, 0.35, 0.1)}, 4);
+        std::unique_ptr<Context> context(createContext(cluster.system, integrator, GetParam()));
+        context->setPositions(cluster.positions);
+        EXPECT_EQ(std::vector<int>({0, 0, 0}), integrator.getKrylovIterations()) << "before any step";
+        integrator.step(1);
+        std::vector<int> iterations = integrator.getKrylovIterations();
+        ASSERT_EQ(3u, iterations.size());
+        std::cout << GetParam() << ", " << solver << ": Krylov iterations " << iterations[0] << ", " << iterations[1] << ", " << iterations[2] << std::endl;
+        for (int k = 0; k < 3; k++) {
+            if (solver == "krylov" && GetParam().platform != "Reference") {
+                EXPECT_GE(iterations[k], 1) << "solve " << k;
+                EXPECT_LE(iterations[k], 1000) << "solve " << k;
+            }
+            else
+                EXPECT_EQ(0, iterations[k]) << "solve " << k;
+        }
+    }
+    if (before == NULL)
+        unsetenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER");
+    else
+        setenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER", saved.c_str(), 1);
+    RigidLangevinIntegrator unbound(300, 300, 0.004);
+    EXPECT_THROW(unbound.getKrylovIterations(), OpenMMException);
 }
 
 TEST_P(HydrodynamicInteractions, RefusesWhatItCannotDo) {

@@ -195,6 +195,7 @@ def test_hydrodynamic_interactions_from_python():
         steps.step(200)
         dragged[interactions] = steps.getRigidBodyStates().velocities[1].value_in_unit(unit.nanometer/unit.picosecond)
         puller = steps.getRigidBodyStates().velocities[0].value_in_unit(unit.nanometer/unit.picosecond)
+        assert list(steps.getKrylovIterations()) == [0, 0, 0]  # Reference is dense
     assert dragged[False][0] == 0
     # Along the line of centres, Oseen's 3a/(2r) for blobs of about a = 0.13 nm 1 nm apart: 0.19
     assert 0.1*puller[0] < dragged[True][0] < 0.3*puller[0]

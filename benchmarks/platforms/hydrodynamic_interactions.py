@@ -10,7 +10,10 @@ RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER before each block).
     python benchmarks/platforms/hydrodynamic_interactions.py [--quick] [--name hydrodynamic_interactions]
 
 Writes results/<name>.csv and .png: ms per step (mean of the pairs +- its standard error), the
-ratio to the same bodies without interactions, and the simulated time per day.
+ratio to the same bodies without interactions, the simulated time per day, and for Krylov the
+iterations of its three solves (RigidLangevinIntegrator.getKrylovIterations(): the noise's Lanczos,
+the noise's and the friction's conjugate gradients), mean and range over ITERATION_STEPS steps
+after the timing.
 """
 import argparse
 import os
@@ -31,6 +34,8 @@ SHAPES = {
                      + [(s1, s2*(1+5**0.5)/2, 0) for s1 in (-1, 1) for s2 in (-1, 1)]
                      + [(s2*(1+5**0.5)/2, 0, s1) for s1 in (-1, 1) for s2 in (-1, 1)], float),
 }
+# Steps whose Krylov iterations are recorded.
+ITERATION_STEPS = 5
 # Dense coupled steps beyond this many blobs take seconds each (the Cholesky's cost grows as the cube).
 MAX_DENSE_BLOBS = 1200
 
@@ -95,6 +100,13 @@ def measure(num_bodies, blobs_per_body, pairs):
         per_step = (time.perf_counter()-start)/2
         steps[mode] = int(np.clip(0.1/per_step, 1, 20000))
     times = paired_times(contexts, steps, pairs=pairs, prepare=prepare)
+    integrator, context = contexts['krylov']
+    prepare['krylov']()
+    iterations = []
+    for _ in range(ITERATION_STEPS):
+        integrator.step(1)
+        iterations.append(integrator.getKrylovIterations())
+    iterations = np.array(iterations)
     os.environ.pop('RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER', None)
     rows = []
     for mode in modes:
@@ -103,6 +115,8 @@ def measure(num_bodies, blobs_per_body, pairs):
         rows.append({'bodies': num_bodies, 'blobs_per_body': blobs_per_body, 'blobs': blobs, 'solver': mode,
                      'ms_per_step': f'{mean:.4g}', 'ms_error': f'{error:.2g}', 'ratio_to_off': f'{ratio:.4g}', 'ratio_error': f'{ratio_error:.2g}',
                      'ns_per_day': f'{STEP_PS*1e-3*86400/(mean*1e-3):.4g}'})
+        for k, solve in enumerate(('lanczos', 'noise_cg', 'friction_cg')):
+            rows[-1][solve] = (f'{iterations[:, k].mean():.3g} ({iterations[:, k].min()}-{iterations[:, k].max()})' if mode == 'krylov' else '')
     return rows
 
 
@@ -120,7 +134,8 @@ def main():
     for num_bodies, blobs_per_body in systems:
         print(f'{num_bodies} bodies of {blobs_per_body} blob(s)...', flush=True)
         rows += measure(num_bodies, blobs_per_body, pairs)
-    write_table(args.name, ['bodies', 'blobs_per_body', 'blobs', 'solver', 'ms_per_step', 'ms_error', 'ratio_to_off', 'ratio_error', 'ns_per_day'], rows)
+    write_table(args.name, ['bodies', 'blobs_per_body', 'blobs', 'solver', 'ms_per_step', 'ms_error', 'ratio_to_off', 'ratio_error', 'ns_per_day',
+                            'lanczos', 'noise_cg', 'friction_cg'], rows)
 
     import matplotlib
     matplotlib.use('Agg')

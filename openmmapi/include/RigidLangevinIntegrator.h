@@ -215,6 +215,15 @@ public:
      * interactions under another scheme throws.
      */
     void setHydrodynamicInteractions(bool enabled);
+    /**
+     * The iterations the last step's Krylov solves of the coupled friction took (see
+     * setHydrodynamicInteractions()), to see what a system costs and how well conditioned it is:
+     * the Lanczos iteration for the noise, the conjugate gradients for the noise and those for the
+     * friction, in that order (each iteration one product with the blobs' mobility). All zero after
+     * a dense step, at zero viscosity or without interactions; the noise's zero at zero temperature.
+     * The integrator must be bound to a Context.
+     */
+    std::vector<int> getKrylovIterations() const;
     /** Get whether bodies are coupled through the solvent (setHydrodynamicInteractions()). */
     bool getHydrodynamicInteractions() const {
         return hydrodynamicInteractions;

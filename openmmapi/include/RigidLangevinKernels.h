@@ -50,6 +50,12 @@ public:
     virtual void stateChanged(OpenMM::ContextImpl& context, OpenMM::State::DataType changed) = 0;
     /** The body model, built from the current positions if it was not built yet. */
     virtual const RigidBodyModel& getModel(OpenMM::ContextImpl& context) = 0;
+    /**
+     * The iterations the last step's Krylov solves of the coupled friction (hydrodynamic
+     * interactions) took: the noise's Lanczos square root, the noise's and the friction's conjugate
+     * gradients; all zero after a dense step or without interactions.
+     */
+    virtual void getKrylovIterations(int& noise, int& noiseSolve, int& friction) const = 0;
     /** Get the state of every body (user bodies first, then free particles). */
     virtual void getBodyStates(OpenMM::ContextImpl& context, std::vector<BodyState>& states) = 0;
     /**

@@ -336,6 +336,14 @@ vector<Vec3> RigidLangevinIntegrator::getVelocitiesForTemperature(const System& 
     return velocities;
 }
 
+vector<int> RigidLangevinIntegrator::getKrylovIterations() const {
+    if (context == NULL)
+        throw OpenMMException("RigidLangevinIntegrator::getKrylovIterations: this Integrator is not bound to a context");
+    int noise, noiseSolve, friction;
+    kernel.getAs<IntegrateRigidLangevinStepKernel>().getKrylovIterations(noise, noiseSolve, friction);
+    return {noise, noiseSolve, friction};
+}
+
 void RigidLangevinIntegrator::getRigidBodyStates(vector<Vec3>& centers, vector<double>& orientations, vector<Vec3>& velocities,
                                                  vector<Vec3>& angularVelocities) const {
     if (context == NULL)

@@ -29,6 +29,11 @@ public:
     void stateChanged(OpenMM::ContextImpl& context, OpenMM::State::DataType changed);
     const RigidBodyModel& getModel(OpenMM::ContextImpl& context);
     void getBodyStates(OpenMM::ContextImpl& context, std::vector<BodyState>& states);
+    void getKrylovIterations(int& noise, int& noiseSolve, int& friction) const {
+        noise = lastKrylovIterations.noise;
+        noiseSolve = lastKrylovIterations.noiseSolve;
+        friction = lastKrylovIterations.friction;
+    }
     void setBodyTypesAndStates(OpenMM::ContextImpl& context, const OpenMM::SerializationNode& types, const std::vector<BodyState>& states);
     void createCheckpoint(OpenMM::ContextImpl& context, std::ostream& stream);
     void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream);
