@@ -141,6 +141,21 @@ struct Cluster {
     }
 };
 
+/** Three bodies close together at 300 K (BAOAB with interactions, seed 5), in a Context with their positions. */
+struct CloseTrio {
+    RigidLangevinIntegrator integrator;
+    Cluster cluster;
+    std::unique_ptr<Context> context;
+    explicit CloseTrio(const PlatformConfig& config) :
+            integrator(300, 300, 0.004), cluster(integrator, {Vec3(0, 0, 0), Vec3(0.3, 0.1, 0), Vec3(0.1, 0.35, 0.1)}, 4) {
+        integrator.setScheme(RigidLangevinIntegrator::BAOAB);
+        integrator.setHydrodynamicInteractions(true);
+        integrator.setRandomNumberSeed(5);
+        context.reset(createContext(cluster.system, integrator, config));
+        context->setPositions(cluster.positions);
+    }
+};
+
 /** The momenta after one midpoint friction step from momenta p (zero temperature): M (M + h R/2)^-1 (M - h R/2) M^-1 p, R the friction. */
 Eigen::VectorXd midpointStep(const Matrix& mass, const Matrix& friction, double h, const Eigen::VectorXd& p) {
     Matrix plus = mass+0.5*h*friction, minus = mass-0.5*h*friction;
@@ -441,13 +456,10 @@ TEST_P(HydrodynamicInteractions, BoundPairsSampleTheSameDistributionWithAndWitho
 TEST_P(HydrodynamicInteractions, CheckpointContinuesTheSameTrajectory) {
     // The coupled friction is recomputed from the bodies' states, which a checkpoint restores
     // exactly, as it does the random streams: continuing from it repeats the trajectory bit for bit.
-    RigidLangevinIntegrator integrator(300, 300, 0.004);
-    integrator.setScheme(RigidLangevinIntegrator::BAOAB);
-    integrator.setHydrodynamicInteractions(true);
-    integrator.setRandomNumberSeed(5);
-    Cluster cluster(integrator, {Vec3(0, 0, 0), Vec3(0.3, 0.1, 0), Vec3(0.1, 0.35, 0.1)}, 4);
-    std::unique_ptr<Context> context(createContext(cluster.system, integrator, GetParam()));
-    context->setPositions(cluster.positions);
+    CloseTrio trio(GetParam());
+    RigidLangevinIntegrator& integrator = trio.integrator;
+    Cluster& cluster = trio.cluster;
+    std::unique_ptr<Context>& context = trio.context;
     context->setVelocitiesToTemperature(300, 2);
     integrator.step(5);
     std::stringstream checkpoint;
@@ -473,13 +485,8 @@ TEST_P(HydrodynamicInteractions, ReportsItsKrylovIterations) {
     const std::string saved = (before == NULL ? "" : before);
     for (std::string solver : {"krylov", "dense"}) {
         setenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER", solver.c_str(), 1);
-        RigidLangevinIntegrator integrator(300, 300, 0.004);
-        integrator.setScheme(RigidLangevinIntegrator::BAOAB);
-        integrator.setHydrodynamicInteractions(true);
-        integrator.setRandomNumberSeed(5);
-        Cluster cluster(integrator, {Vec3(0, 0, 0), Vec3(0.3, 0.1, 0), Vec3(0.1, 0.35, 0.1)}, 4);
-        std::unique_ptr<Context> context(createContext(cluster.system, integrator, GetParam()));
-        context->setPositions(cluster.positions);
+        CloseTrio trio(GetParam());
+        RigidLangevinIntegrator& integrator = trio.integrator;
         EXPECT_EQ(std::vector<int>({0, 0, 0}), integrator.getKrylovIterations()) << "before any step";
         integrator.step(1);
         std::vector<int> iterations = integrator.getKrylovIterations();
