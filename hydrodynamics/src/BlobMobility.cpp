@@ -1,12 +1,15 @@
 #include "internal/BlobMobility.h"
 #include "internal/CoupledResistanceMath.h"
+#include "internal/PeriodicRotnePragerYamakawa.h"
 
 using namespace RigidLangevinPlugin;
 
-void HostBlobMobility::setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii) {
+void HostBlobMobility::setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors) {
     this->positions = positions;
     this->radii = radii;
-    if ((int) positions.size() <= MaxStoredBlobs)
+    if (boxVectors != NULL)
+        stored = PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii);
+    else if ((int) positions.size() <= MaxStoredBlobs)
         stored = CoupledResistanceMath::mobilityMatrix(positions, radii, parallel);
     else
         stored.resize(0, 0);

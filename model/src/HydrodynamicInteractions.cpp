@@ -170,7 +170,8 @@ void RigidLangevinPlugin::midpointFrictionStep(const Eigen::MatrixXd& resistance
 }
 
 HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrictionStep(const vector<BodyState>& states, double viscosity, double kT, double h,
-        const Eigen::VectorXd& normals, Eigen::VectorXd& u, double tolerance, int maxIterations, BlobMobility& blobMobility) const {
+        const Eigen::VectorXd& normals, Eigen::VectorXd& u, double tolerance, int maxIterations, BlobMobility& blobMobility,
+        const Vec3* boxVectors) const {
     using Eigen::VectorXd;
     const int numBodies = model.getNumBodies();
     vector<Vec3> positions;
@@ -227,7 +228,7 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
             out.segment(firstCoordinate[b], blobs.velocities.cols()) = blobs.velocities.transpose()*bodyBlobs(f, b, true);
         }
     };
-    blobMobility.setBlobs(positions, radii);
+    blobMobility.setBlobs(positions, radii, boxVectors);
     KrylovSolvers::Operator mobility = [&] (const VectorXd& f, VectorXd& out) {
         blobMobility.multiply(f, out);
     };

@@ -199,12 +199,12 @@ public:
      * surface (ResistanceTensor::roughShellBeads()) converge to the exact two-body friction as they
      * are refined. The friction is recomputed every step, on every platform, in double precision:
      * dense on Reference (Cholesky; cost (3B)^3/3 for B blobs in all), and on CPU, OpenCL and CUDA
-     * from 100 blobs in an unbounded solvent matrix-free (conjugate gradients for the friction,
-     * Lanczos for the noise, each preconditioned by every body's own blocks, to a relative residual
-     * of 1e-10; a solve that does not converge throws), dense below that and in a periodic box. On
-     * OpenCL and CUDA the coupled step is taken on the host, the blobs' mobility products of the
-     * Krylov solves on the device (a tiled kernel, double precision; a device without double
-     * precision is refused). In a periodic System the blobs feel
+     * from 100 blobs matrix-free (conjugate gradients for the friction, Lanczos for the noise,
+     * each preconditioned by every body's own blocks, to a relative residual of 1e-10; a solve that
+     * does not converge throws; in a periodic box with the Ewald-summed mobility formed once a
+     * step), dense below that. On OpenCL and CUDA the coupled step is taken on the host, the blobs'
+     * mobility products of the Krylov solves in an unbounded solvent on the device (a tiled kernel,
+     * double precision; a device without double precision is refused). In a periodic System the blobs feel
      * every image of every body (an Ewald sum of their mobility, exact for any box; see
      * CoupledResistance::setPeriodicBox()), so a lone body in a box of side L is slowed by
      * Hasimoto's finite-size correction, about 2.84 a/L for a sphere of radius a.

@@ -10,9 +10,9 @@
 namespace RigidLangevinPlugin {
 
 /**
- * The blobs' generalised Rotne-Prager-Yamakawa mobility M per unit viscosity (unbounded solvent;
- * RotnePragerYamakawa.h) as an operator for Krylov solvers: given the blobs once, multiplied by as
- * often as a solve asks. HostBlobMobility computes the products on the host; a platform may
+ * The blobs' generalised Rotne-Prager-Yamakawa mobility M per unit viscosity (RotnePragerYamakawa.h;
+ * in a periodic box, PeriodicRotnePragerYamakawa's Ewald sum) as an operator for Krylov solvers:
+ * given the blobs once, multiplied by as often as a solve asks. HostBlobMobility computes the products on the host; a platform may
  * compute them on its device (the common platforms' tiled kernel), but every implementation
  * computes the same M.
  */
@@ -20,8 +20,9 @@ class OPENMM_EXPORT_HYDRODYNAMICS BlobMobility {
 public:
     virtual ~BlobMobility() {
     }
-    /** The blobs' lab positions and radii for the products that follow. */
-    virtual void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii) = 0;
+    /** The blobs' lab positions and radii for the products that follow, in the periodic box of
+     *  boxVectors (three, OpenMM's reduced form) if given, else in an unbounded solvent. */
+    virtual void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors = NULL) = 0;
     /** out = M f, for forces f (3 per blob, in the blobs' order); out is resized to f's size. */
     virtual void multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out) = 0;
 };
@@ -30,14 +31,16 @@ public:
  * M on the host. Up to MaxStoredBlobs blobs setBlobs() forms M once (its lower triangle, 8 (3B)^2
  * bytes: 130 MB at the limit) and each product is a matrix-vector product, several times cheaper
  * than evaluating every pair's block again; beyond, every product evaluates the pairs
- * (matrix-free). Both share their rows out by parallel.
+ * (matrix-free). Both share their rows out by parallel. In a periodic box M is always formed (the
+ * Ewald sum of every pair's images and the wave-space sum, once per setBlobs(), on the calling
+ * thread: PeriodicRotnePragerYamakawa has no matrix-free product yet), whatever the number of blobs.
  */
 class OPENMM_EXPORT_HYDRODYNAMICS HostBlobMobility : public BlobMobility {
 public:
     static const int MaxStoredBlobs = 1350;
     explicit HostBlobMobility(const KrylovSolvers::ParallelFor& parallel = KrylovSolvers::sequentially) : parallel(parallel) {
     }
-    void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii);
+    void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors = NULL);
     void multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out);
 private:
     KrylovSolvers::ParallelFor parallel;

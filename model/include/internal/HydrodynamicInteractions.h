@@ -49,8 +49,8 @@ public:
         int noise, noiseSolve, friction;
     };
     /**
-     * The midpoint friction step of midpointFrictionStep() for the bodies in these states (open
-     * boundaries), matrix-free: R is never formed. With K' the bodies' (calibrated) blob velocities
+     * The midpoint friction step of midpointFrictionStep() for the bodies in these states, in the
+     * periodic box of boxVectors (three) if given, matrix-free: R is never formed. With K' the bodies' (calibrated) blob velocities
      * from u, M the blobs' mobility, M_b the bodies' masses and c = h viscosity/2,
      *
      *   noise    xi = sqrt(2 kT h viscosity) K'^T M^-1 M^1/2 W   (covariance 2 kT h viscosity R: Lanczos, then
@@ -65,7 +65,8 @@ public:
      * host, HostBlobMobility; on a device, the platform's own).
      */
     KrylovIterations krylovFrictionStep(const std::vector<BodyState>& states, double viscosity, double kT, double h, const Eigen::VectorXd& normals,
-                                        Eigen::VectorXd& u, double tolerance, int maxIterations, BlobMobility& mobility) const;
+                                        Eigen::VectorXd& u, double tolerance, int maxIterations, BlobMobility& mobility,
+                                        const OpenMM::Vec3* boxVectors = NULL) const;
 private:
     struct TypeBlobs {
         std::vector<OpenMM::Vec3> coords;

@@ -7,7 +7,7 @@ using namespace RigidLangevinPlugin;
 using namespace OpenMM;
 using std::vector;
 
-CommonBlobMobility::CommonBlobMobility(ComputeContext& cc) : cc(cc), numBlobs(0) {
+CommonBlobMobility::CommonBlobMobility(ComputeContext& cc) : cc(cc), numBlobs(0), periodic(false) {
     if (!cc.getSupportsDoublePrecision())
         throw OpenMMException("RigidLangevinIntegrator: hydrodynamic interactions on this device need double precision, which it does not have; "
                 "use another device, the CPU platform, or setHydrodynamicInteractions(false)");
@@ -16,9 +16,14 @@ CommonBlobMobility::CommonBlobMobility(ComputeContext& cc) : cc(cc), numBlobs(0)
     kernel = program->createKernel("multiplyBlobMobility");
 }
 
-void CommonBlobMobility::setBlobs(const vector<Vec3>& positions, const vector<double>& radii) {
-    ContextSelector selector(cc);
+void CommonBlobMobility::setBlobs(const vector<Vec3>& positions, const vector<double>& radii, const Vec3* boxVectors) {
     numBlobs = positions.size();
+    periodic = (boxVectors != NULL);
+    if (periodic) {
+        periodicOnHost.setBlobs(positions, radii, boxVectors);
+        return;
+    }
+    ContextSelector selector(cc);
     const int size = std::max(numBlobs, 1);
     if (!blobs.isInitialized()) {
         blobs.initialize<double>(cc, 4*size, "rigidBodyBlobs");
@@ -47,6 +52,10 @@ void CommonBlobMobility::setBlobs(const vector<Vec3>& positions, const vector<do
 void CommonBlobMobility::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out) {
     if (f.size() != 3*numBlobs)
         throw OpenMMException("CommonBlobMobility: a product with "+std::to_string(f.size())+" force components for "+std::to_string(numBlobs)+" blobs");
+    if (periodic) {
+        periodicOnHost.multiply(f, out);
+        return;
+    }
     out.resize(f.size());
     if (numBlobs == 0)
         return;

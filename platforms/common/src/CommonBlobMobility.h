@@ -13,12 +13,14 @@ namespace RigidLangevinPlugin {
  * in double precision whatever the platform's precision. The blobs are uploaded once per step
  * (setBlobs), each product's force and velocity once per product; the solvers themselves run on
  * the host (HydrodynamicInteractions::krylovFrictionStep), as on the CPU, so that every platform
- * takes the same Krylov steps. Throws an OpenMMException if the device has no double precision.
+ * takes the same Krylov steps. In a periodic box the products are the host's (HostBlobMobility: the
+ * Ewald-summed M formed once per step); the device kernel is for an unbounded solvent. Throws an
+ * OpenMMException if the device has no double precision.
  */
 class CommonBlobMobility : public BlobMobility {
 public:
     explicit CommonBlobMobility(OpenMM::ComputeContext& cc);
-    void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii);
+    void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors = NULL);
     void multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out);
     /** Blobs per work group (and per tile of local memory). */
     static const int TileSize = 64;
@@ -27,6 +29,8 @@ private:
     OpenMM::ComputeKernel kernel;
     OpenMM::ComputeArray blobs, force, velocity;
     int numBlobs;
+    bool periodic;
+    HostBlobMobility periodicOnHost;
 };
 
 } // namespace RigidLangevinPlugin

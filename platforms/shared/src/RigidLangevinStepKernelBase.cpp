@@ -100,12 +100,12 @@ void RigidLangevinStepKernelBase::coupledFrictionStep(ContextImpl& context, cons
         context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     Eigen::VectorXd u = interactions->getVelocities(states);
     const double kT = BOLTZ*integrator.getTemperature();
-    if (!periodic && useKrylovSolvers(interactions->getNumBlobs())) {
+    if (useKrylovSolvers(interactions->getNumBlobs())) {
         Eigen::VectorXd normals(3*interactions->getNumBlobs());
         for (int i = 0; i < normals.size(); i++)
             normals[i] = (kT > 0 ? normal() : 0.0);
         lastKrylovIterations = interactions->krylovFrictionStep(states, integrator.getViscosity(), kT, h, normals, u, KrylovTolerance,
-                                                                KrylovMaxIterations, mobility);
+                                                                KrylovMaxIterations, mobility, periodic ? box : NULL);
     }
     else {
         Eigen::MatrixXd resistance = interactions->computeResistance(states, periodic ? box : NULL);
