@@ -190,6 +190,25 @@ inline void freeRotateFrameAndVectors(double q[3][3], const BodyType& type, doub
     });
 }
 
+/**
+ * The force on a body of this type whose particles are these (System indices), and its torque in
+ * the body frame, from every particle's force: a virtual site's entry is skipped, OpenMM having
+ * already handed its force to its parents (all in this body).
+ */
+inline void gatherForce(const BodyType& type, const BodyParticles& particles, const BodyState& s, const std::vector<OpenMM::Vec3>& forces,
+                        OpenMM::Vec3& force, OpenMM::Vec3& torque) {
+    force = OpenMM::Vec3();
+    torque = OpenMM::Vec3();
+    for (int i = 0; i < particles.size(); i++) {
+        if (type.isVirtualSite[i])
+            continue;
+        const OpenMM::Vec3& fi = forces[particles[i]];
+        force += fi;
+        if (type.numRotations > 0)
+            torque += type.coords[i].cross(toBody(s.rotation, fi));
+    }
+}
+
 /** Add dt*force to the momentum and dt*torque (body frame) to the angular momentum. */
 inline void kick(BodyState& s, const BodyType& type, const OpenMM::Vec3& force, const OpenMM::Vec3& bodyTorque, double dt) {
     s.velocity += force*(dt/type.mass);

@@ -530,16 +530,8 @@ void CommonIntegrateRigidLangevinStepKernel::takeCoupledStep(ContextImpl& contex
             s.rotation[2][j] = row2[j];
         }
         s.velocity -= centerOfMassVelocity;
-        // Force and torque as the step kernels gather them: a site's force is already its parents'.
         Vec3 force, torque;
-        BodyParticles particles = model->getBodyParticles(b);
-        for (int i = 0; i < particles.size(); i++) {
-            if (type.isVirtualSite[i])
-                continue;
-            force += forces[particles[i]];
-            if (type.numRotations > 0)
-                torque += type.coords[i].cross(BodyDynamics::toBody(s.rotation, forces[particles[i]]));
-        }
+        BodyDynamics::gatherForce(type, model->getBodyParticles(b), s, forces, force, torque);
         BodyDynamics::kick(s, type, force, torque, h);
         BodyDynamics::drift(s, type, 0.5*h);
     }

@@ -232,19 +232,7 @@ private:
     }
     /** Total force (lab frame) and torque (body frame) on a body, from the platform's forces. */
     void computeBodyForce(int body, const BodyState& s, OpenMM::Vec3& force, OpenMM::Vec3& torque) const {
-        const BodyType& type = model->getType(model->getBodyType(body));
-        BodyParticles particles = model->getBodyParticles(body);
-        const std::vector<OpenMM::Vec3>& f = *data.forces;
-        force = OpenMM::Vec3();
-        torque = OpenMM::Vec3();
-        for (int i = 0; i < particles.size(); i++) {
-            if (type.isVirtualSite[i])
-                continue;  // OpenMM has already added its force to its parents
-            const OpenMM::Vec3& fi = f[particles[i]];
-            force += fi;
-            if (type.numRotations > 0)
-                torque += type.coords[i].cross(BodyDynamics::toBody(s.rotation, fi));
-        }
+        BodyDynamics::gatherForce(model->getType(model->getBodyType(body)), model->getBodyParticles(body), s, *data.forces, force, torque);
     }
     /** The total momentum of all bodies, summed chunk by chunk in a fixed order. */
     OpenMM::Vec3 computeMomentum() {
