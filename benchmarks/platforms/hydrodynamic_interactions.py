@@ -7,7 +7,11 @@ interactions and with them, dense (Cholesky) where that fits and matrix-free (Kr
 alternating pairs of blocks in one run (benchmark_utils.paired_times; the solver chosen with
 RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER before each block).
 
-    python benchmarks/platforms/hydrodynamic_interactions.py [--quick] [--name hydrodynamic_interactions]
+    python benchmarks/platforms/hydrodynamic_interactions.py [--quick | --large] [--name hydrodynamic_interactions]
+
+--large times 1000, 3000 and 10000 single spheres (Krylov with matrix-free products against no
+interactions; two pairs, two steps for the iterations; about 20 minutes on 2 cores) into
+results/hydrodynamic_interactions_large.csv and .png.
 
 Writes results/<name>.csv and .png: ms per step (mean of the pairs +- its standard error), the
 ratio to the same bodies without interactions, the simulated time per day, and for Krylov the
@@ -78,8 +82,9 @@ def solver(name):
     return set_environment
 
 
-def measure(num_bodies, blobs_per_body, pairs):
-    """Rows of the table for one system: each mode's ms per step and its ratio to no interactions."""
+def measure(num_bodies, blobs_per_body, pairs, iteration_steps=ITERATION_STEPS, probe_steps=2):
+    """Rows of the table for one system: each mode's ms per step and its ratio to no interactions.
+    probe_steps: the warm-up steps of each Context, and the steps that size its blocks."""
     system, make_integrator, positions = scene(num_bodies, blobs_per_body)
     blobs = num_bodies*blobs_per_body
     modes = ['off']+(['dense'] if blobs <= MAX_DENSE_BLOBS else [])+['krylov']
@@ -89,21 +94,21 @@ def measure(num_bodies, blobs_per_body, pairs):
         if mode != 'off':
             prepare[mode] = solver(mode)
             prepare[mode]()
-        contexts[mode] = (integrator, running_context(system, integrator, positions, 'CPU', {}, warmup_steps=2))
+        contexts[mode] = (integrator, running_context(system, integrator, positions, 'CPU', {}, warmup_steps=probe_steps))
     # Blocks of about a tenth of a second or more each (the coupled steps cost up to seconds).
     steps = {}
     for mode, (integrator, context) in contexts.items():
         if mode in prepare:
             prepare[mode]()
         start = time.perf_counter()
-        integrator.step(2)
-        per_step = (time.perf_counter()-start)/2
+        integrator.step(probe_steps)
+        per_step = (time.perf_counter()-start)/probe_steps
         steps[mode] = int(np.clip(0.1/per_step, 1, 20000))
     times = paired_times(contexts, steps, pairs=pairs, prepare=prepare)
     integrator, context = contexts['krylov']
     prepare['krylov']()
     iterations = []
-    for _ in range(ITERATION_STEPS):
+    for _ in range(iteration_steps):
         integrator.step(1)
         iterations.append(integrator.getKrylovIterations())
     iterations = np.array(iterations)
@@ -122,18 +127,24 @@ def measure(num_bodies, blobs_per_body, pairs):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument('--quick', action='store_true', help='two small systems, two pairs (seconds)')
-    parser.add_argument('--name', default='hydrodynamic_interactions')
+    sizes = parser.add_mutually_exclusive_group()
+    sizes.add_argument('--quick', action='store_true', help='two small systems, two pairs (seconds)')
+    sizes.add_argument('--large', action='store_true', help='1000 to 10000 single spheres, Krylov only (about 20 minutes)')
+    parser.add_argument('--name', default=None)
     args = parser.parse_args()
+    args.name = args.name or ('hydrodynamic_interactions_large' if args.large else 'hydrodynamic_interactions')
+    options = {}
     if args.quick:
         systems, pairs = [(5, 4), (10, 1)], 2
+    elif args.large:
+        systems, pairs, options = [(1000, 1), (3000, 1), (10000, 1)], 2, {'iteration_steps': 2, 'probe_steps': 1}
     else:
         systems = [(n, 4) for n in (10, 30, 100, 300, 600)]+[(50, 1), (50, 12), (300, 1)]
         pairs = 3
     rows = []
     for num_bodies, blobs_per_body in systems:
         print(f'{num_bodies} bodies of {blobs_per_body} blob(s)...', flush=True)
-        rows += measure(num_bodies, blobs_per_body, pairs)
+        rows += measure(num_bodies, blobs_per_body, pairs, **options)
     write_table(args.name, ['bodies', 'blobs_per_body', 'blobs', 'solver', 'ms_per_step', 'ms_error', 'ratio_to_off', 'ratio_error', 'ns_per_day',
                             'lanczos', 'noise_cg', 'friction_cg'], rows)
 
