@@ -69,10 +69,10 @@ protected:
         return -1;
     }
     /**
-     * Whether the coupled friction step of this many blobs is matrix-free: never
-     * where getKrylovMinBlobs() is -1; else as the environment variable
-     * RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER (dense or krylov) says whatever the size (the tests run
-     * both on small systems), or from getKrylovMinBlobs() blobs. Throws on any other value.
+     * Whether the coupled friction step of this many blobs is matrix-free: never where
+     * getKrylovMinBlobs() is -1; else as the environment variable RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER
+     * (dense or krylov) says whatever the size (the tests run both on small systems), or from
+     * getKrylovMinBlobs() blobs. Throws on any other value.
      */
     bool useKrylovSolvers(int numBlobs) const;
     /** The Krylov solves' relative tolerance and iteration limit (HydrodynamicInteractions::krylovFrictionStep). */
@@ -82,9 +82,10 @@ protected:
      * The friction step of bodies coupled through the solvent (BAOAB's O step for all bodies at
      * once), on the host in double precision, for the bodies' states after the first half drift:
      * the midpoint rule with their coupled resistance (in the System's periodic box if it has
-     * one), dense or, where useKrylovSolvers(), matrix-free with mobility's products. normal() gives the standard normal numbers (one per coordinate when dense; three
-     * per blob, only at a nonzero temperature, when matrix-free). Every platform takes this same
-     * step; they differ only in where the products of the blobs' mobility are computed.
+     * one), dense or, where useKrylovSolvers(), matrix-free with mobility's products. normal()
+     * gives the standard normal numbers (one per coordinate when dense; three per blob, only at a
+     * nonzero temperature, when matrix-free). Every platform takes this same step; they differ
+     * only in where the products of the blobs' mobility are computed.
      */
     void coupledFrictionStep(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, std::vector<BodyState>& states,
                              const std::function<double ()>& normal, BlobMobility& mobility);
