@@ -13,7 +13,9 @@ The measured speed (mean of the centroid's velocity over the run, with its block
 is compared with the exact expectation for the same trajectory: the spheres' RPY mobility from
 rigidlangevin.hydrodynamics at each sampled configuration, times F, averaged over the samples.
 
-    python examples/sedimenting_cloud.py [--quick] [--spheres 100] [--out DIR]
+    python examples/sedimenting_cloud.py [--quick] [--spheres 100] [--platform CPU] [--out DIR]
+
+Every platform has hydrodynamic interactions (--platform Reference, CPU, OpenCL or CUDA).
 
 Writes DIR/table.md and DIR/cloud.png (default examples/results/sedimenting_cloud; with --quick,
 out/sedimenting_cloud) and prints the table.
@@ -65,7 +67,7 @@ def predicted_speed(positions, force, viscosity):
     return -velocities[2::3].mean()
 
 
-def run(num_spheres, interactions, picoseconds, seed):
+def run(num_spheres, interactions, picoseconds, seed, platform='CPU'):
     """The centroid's speed (mean, block standard error), the prediction's mean, and the centroid's height against time."""
     centres, _ = cloud(num_spheres, seed)
     viscosity = _units.viscosity_value(VISCOSITY)
@@ -81,7 +83,7 @@ def run(num_spheres, interactions, picoseconds, seed):
         system.addParticle(MASS)
         pull.addParticle(i)
         integrator.setParticleRadius(i, RADIUS*unit.nanometer)
-    context = mm.Context(system, integrator, mm.Platform.getPlatformByName('CPU'))
+    context = mm.Context(system, integrator, mm.Platform.getPlatformByName(platform))
     context.setPositions([mm.Vec3(*p) for p in centres])
     context.setVelocitiesToTemperature(TEMPERATURE*unit.kelvin, seed)
     integrator.step(int(round(RELAX_PS/STEP)))
@@ -105,6 +107,7 @@ def main():
     parser.add_argument('--spheres', type=int, help='spheres in the cloud (default 100, 30 with --quick)')
     parser.add_argument('--picoseconds', type=float, help='the measured run (default 4, 1 with --quick)')
     parser.add_argument('--seed', type=int, default=3)
+    parser.add_argument('--platform', default='CPU', help='the OpenMM platform (default CPU)')
     parser.add_argument('--out', help='output folder')
     args = parser.parse_args()
     num_spheres = args.spheres or (30 if args.quick else 100)
@@ -117,7 +120,7 @@ def main():
 
     results = {}
     for interactions in (False, True):
-        results[interactions] = run(num_spheres, interactions, picoseconds, args.seed)
+        results[interactions] = run(num_spheres, interactions, picoseconds, args.seed, args.platform)
     lines = [f'# A settling cloud: {num_spheres} spheres of radius {RADIUS} nm in a ball of radius {cloud_radius:.2f} nm, {picoseconds:g} ps at '
              f'{TEMPERATURE:g} K, 0.89 cP; speeds in units of Stokes\'s U0 = {STOKES_SPEED} nm/ps', '',
              '| interactions | measured speed / U0 | expected / U0 | (measured - expected) / standard error |', '|---|---|---|---|']
