@@ -224,16 +224,35 @@ struct PlatformConfigName {
 OpenMM::Context* createContext(OpenMM::System& system, OpenMM::Integrator& integrator, const PlatformConfig& config);
 
 /**
- * RIGIDLANGEVIN_HOST_PARTICLE_STORES (how the host step writes particles: auto, cached or
- * streaming) set while in scope, for the Contexts made then, and unset after, also when a test
- * throws (ctest sets none).
+ * An environment variable set while in scope, for the Contexts made then, and put back as it was
+ * after (unset if it was), also when a test throws or an ASSERT returns early: the kernels read
+ * these settings when a Context is made or a step taken, so a setting left behind would change the
+ * tests that follow in the same process.
  */
-struct ParticleStoresSetting {
-    explicit ParticleStoresSetting(const char* value) {
-        setenv("RIGIDLANGEVIN_HOST_PARTICLE_STORES", value, 1);
+struct EnvironmentSetting {
+    EnvironmentSetting(const char* name, const char* value) : name(name) {
+        const char* previous = std::getenv(name);
+        wasSet = (previous != NULL);
+        if (wasSet)
+            saved = previous;
+        setenv(name, value, 1);
     }
-    ~ParticleStoresSetting() {
-        unsetenv("RIGIDLANGEVIN_HOST_PARTICLE_STORES");
+    ~EnvironmentSetting() {
+        if (wasSet)
+            setenv(name.c_str(), saved.c_str(), 1);
+        else
+            unsetenv(name.c_str());
+    }
+    std::string name, saved;
+    bool wasSet;
+};
+
+/**
+ * RIGIDLANGEVIN_HOST_PARTICLE_STORES (how the host step writes particles: auto, cached or
+ * streaming) set while in scope (ctest sets none).
+ */
+struct ParticleStoresSetting : EnvironmentSetting {
+    explicit ParticleStoresSetting(const char* value) : EnvironmentSetting("RIGIDLANGEVIN_HOST_PARTICLE_STORES", value) {
     }
 };
 

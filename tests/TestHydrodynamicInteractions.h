@@ -25,7 +25,6 @@
 #include "openmm/NonbondedForce.h"
 #include "openmm/OpenMMException.h"
 #include <gtest/gtest.h>
-#include <cstdlib>
 #include <sstream>
 #include <memory>
 #include <random>
@@ -480,11 +479,9 @@ TEST_P(HydrodynamicInteractions, ReportsItsKrylovIterations) {
     // getKrylovIterations(): after a matrix-free step, each of the three solves took between one
     // and 1000 iterations (these three bodies of 15 blobs take a few dozen); after a dense step, and
     // always on Reference (dense by definition), zeros. The solver is chosen as users choose it, by
-    // RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER, restored afterwards.
-    const char* before = std::getenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER");
-    const std::string saved = (before == NULL ? "" : before);
+    // RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER, restored afterwards (EnvironmentSetting).
     for (std::string solver : {"krylov", "dense"}) {
-        setenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER", solver.c_str(), 1);
+        EnvironmentSetting setting("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER", solver.c_str());
         CloseTrio trio(GetParam());
         RigidLangevinIntegrator& integrator = trio.integrator;
         EXPECT_EQ(std::vector<int>({0, 0, 0}), integrator.getKrylovIterations()) << "before any step";
@@ -501,10 +498,6 @@ TEST_P(HydrodynamicInteractions, ReportsItsKrylovIterations) {
                 EXPECT_EQ(0, iterations[k]) << "solve " << k;
         }
     }
-    if (before == NULL)
-        unsetenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER");
-    else
-        setenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER", saved.c_str(), 1);
     RigidLangevinIntegrator unbound(300, 300, 0.004);
     EXPECT_THROW(unbound.getKrylovIterations(), OpenMMException);
 }
