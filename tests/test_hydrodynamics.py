@@ -257,3 +257,70 @@ def test_sedimentation_of_a_dilute_random_suspension_at_the_rotne_prager_yamakaw
           f'without the pairs {1-2.837297*a/side:.4f}, Batchelor (unbounded) {1-6.55*volume_fraction:.4f}')
     assert 4*error < 2.5*volume_fraction  # a factor 2 in the 5 phi would show
     assert abs(mean-expected) < 4*error
+
+
+def test_short_time_self_diffusion_of_a_dilute_suspension_converges_to_batchelors():
+    """A sphere's short-time self-diffusion in a suspension is kT times its self-mobility averaged
+    over where the others are. In a dilute random suspension of hard spheres (uniform outside
+    contact) its first order in the volume fraction phi comes from pairs:
+
+        D_s/D_0 = 1 + c phi,   c = int_2^inf rho^2 (x11a + 2 y11a - 3) d rho,   rho = r/a,
+
+    with x11a, y11a the self-mobility of a sphere along and across the line to another sphere at
+    r, in units of 1/(6 pi eta a) (the number density 3 phi/(4 pi a^3) times the shell 4 pi r^2 dr,
+    and the trace over 3). Batchelor (J. Fluid Mech. 74, 1 (1976)) integrated the exact functions:
+    c = -1.83. With u = 2/rho the integral is int_0^1 8 u^-4 (x11a + 2 y11a - 3) du, whose integrand
+    tends to -15/8 as u -> 0 (x11a - 1 ~ -15/4 rho^-4), so eight Gauss-Legendre nodes in u suffice
+    (sixteen change it by 5e-4).
+
+    At the Rotne-Prager-Yamakawa level (one blob a sphere) c = 0 exactly: a blob's self block does
+    not depend on another blob outside it; all of -1.83 is the field the second sphere reflects,
+    which a sphere needs its surface resolved to send. Here each sphere is a shell of blobs of
+    radius sigma on its surface (roughShellBeads), calibrated to 6 pi eta a alone (own=, as the
+    integrator does), each tiling turned at random (the standard errors are over four draws):
+    65, 136 and 284 blobs a sphere give -2.025 +- 0.001, -1.987 +- 0.001 and -1.938 +- 0.0003
+    (measured once with one tiling orientation: 560 blobs -1.91, 1142 blobs -1.88), converging to
+    Batchelor's value, and the straight line in sigma through them reaches it at sigma = 0
+    (-1.841 +- 0.001, against -1.8315 for the exact functions; curvature leaves about 0.03). A factor 2 in the
+    reflected field, or a calibration left out (c then diverges), fails by far more than the 3%
+    allowed."""
+    a, batchelor = 1.0, -1.8315
+    # one blob a sphere: the self block of the mobility is that of a lone sphere, to round-off
+    centre = np.array([2.5*a, 0, 0])
+    r = hydro.coupledResistance([([(0, 0, 0)], [a], (0, 0, 0)), ([centre], [a], centre)])
+    translations = [0, 1, 2, 6, 7, 8]
+    mobility = np.linalg.inv(r[np.ix_(translations, translations)])*6*math.pi*a
+    assert np.abs(mobility[:3, :3]-np.eye(3)).max() < 1e-12
+    assert np.abs(mobility[:3, 3:]).max() > 0.1  # the spheres are coupled
+
+    u, w = np.polynomial.legendre.leggauss(8)
+    u, w = (u+1)/2, w/2
+    rng = np.random.default_rng(11)
+
+    def coefficient(sigma):
+        shell = hydro.roughShellBeads([(0, 0, 0)], [a], sigma).value_in_unit(unit.nanometer)
+        radii = [sigma]*len(shell)
+        total = 0
+        for node, weight in zip(u, w):
+            centre = np.array([2*a/node, 0, 0])
+            turns = [np.linalg.qr(rng.normal(size=(3, 3)))[0] for _ in range(2)]
+            bodies = [(shell@turns[0], radii, (0, 0, 0)), (shell@turns[1]+centre, radii, centre)]
+            m = hydro.coupledMobility(bodies, own=[hydro.sphere(a), hydro.sphere(a, centre)])*6*math.pi*a
+            total += weight*8/node**4*(np.trace(m[:3, :3])-3)
+        return total, len(shell)
+    sigmas, means, errors = (0.14, 0.1, 0.07), [], []
+    for sigma in sigmas:
+        draws = [coefficient(sigma) for _ in range(4)]
+        values = [c for c, _ in draws]
+        means.append(np.mean(values))
+        errors.append(np.std(values, ddof=1)/2)
+        print(f'\nself-diffusion coefficient with {draws[0][1]} blobs a sphere: {means[-1]:.4f} +- {errors[-1]:.4f}', end='')
+    weights = 1/np.array(errors)
+    design = np.vstack([np.ones(3), sigmas]).T*weights[:, None]
+    (extrapolated, _), *_ = np.linalg.lstsq(design, np.array(means)*weights, rcond=None)
+    error = math.sqrt(np.linalg.inv(design.T@design)[0, 0])
+    print(f'\nextrapolated to zero blob size: {extrapolated:.4f} +- {error:.4f} (Batchelor {batchelor})')
+    assert max(errors) < 0.005
+    for coarse, fine, coarse_error, fine_error in zip(means, means[1:], errors, errors[1:]):
+        assert abs(fine-batchelor)+3*fine_error < abs(coarse-batchelor)-3*coarse_error  # nearer as blobs are refined
+    assert abs(extrapolated-batchelor) < 0.03*abs(batchelor)
