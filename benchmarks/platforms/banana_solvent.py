@@ -6,13 +6,16 @@ pairs of blocks (benchmark_utils.paired_times): the ratios carry standard errors
 
 Explicit: two bananas (bodies) among 320 pentanes under RigidLangevinIntegrator at zero viscosity,
 1 fs (the scene's NVE runs). Implicit: the two bananas alone under its ExactFlow scheme at 0.289 cP,
-2 fs. Writes results/banana_solvent.csv and .png.
+2 fs. Writes results/banana_solvent.csv and .png, and where the split explicit step's time goes:
+each force alone (its own force group, evaluated in rounds that alternate the forces) against the
+whole step, results/banana_solvent_forces.csv.
 
     python benchmarks/platforms/banana_solvent.py [--platform CPU] [--pairs 6]
 """
 import argparse
 import pathlib
 import sys
+import time
 
 import numpy as np
 import openmm as mm
@@ -36,6 +39,31 @@ def scene_context(all_in_gayberne, xi, platform, properties):
     integrator.step(500)  # relaxes the lattice's close contacts at 1 cP
     integrator.setViscosity(0.0)
     return integrator, context
+
+
+def force_costs(platform, properties, rounds=12, evaluations=20):
+    """Milliseconds per evaluation (mean and standard error over rounds) of each force of the split
+    explicit System alone, of all of them together, and of no force (a State's own cost, which
+    every other row includes)."""
+    system, positions, _, _ = bm.pentane_box(320, BOX, 1, bananas=2)
+    for group, force in enumerate(system.getForces()):
+        force.setForceGroup(group)
+    context = mm.Context(system, mm.VerletIntegrator(0.001), mm.Platform.getPlatformByName(platform), properties)
+    context.setPositions(positions)
+    names = [f'{force.__class__.__name__} ({force.getName()})' if force.getName() != force.__class__.__name__ else force.__class__.__name__
+             for force in system.getForces()]
+    groups = {name: {group} for group, name in enumerate(names)}
+    groups['all forces'] = set(range(len(names)))
+    groups['none (the State\'s own cost)'] = {31}
+    times = {name: [] for name in groups}
+    for _ in range(rounds):
+        for name, group in groups.items():
+            context.getState(getForces=True, groups=group)
+            start = time.perf_counter()
+            for _ in range(evaluations):
+                context.getState(getForces=True, groups=group)
+            times[name].append((time.perf_counter()-start)/evaluations*1e3)
+    return {name: mean_and_error(np.array(t)) for name, t in times.items()}
 
 
 def implicit_context(xi, platform, properties):
@@ -70,6 +98,11 @@ def main():
     rows.append({'run': 'one GayBerneForce / split (per step)', 'ratio': f'{old:.2f} ± {old_error:.2f}'})
     rows.append({'run': 'explicit (split) / implicit (per ns)', 'ratio': f'{ratio:.1f} ± {ratio_error:.1f}'})
     write_table('banana_solvent', ['run', 'ms per step', 'ns/day', 'ratio'], rows)
+    step, _ = mean_and_error(np.array(times['split'])*1e3)
+    costs = force_costs(args.platform, properties)
+    write_table('banana_solvent_forces', ['force', 'ms per evaluation', 'share of the split step'],
+                [{'force': name, 'ms per evaluation': f'{mean:.4f} ± {error:.4f}', 'share of the split step': f'{100*mean/step:.0f}%'}
+                 for name, (mean, error) in costs.items()])
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
