@@ -444,6 +444,9 @@ public:
 %pythonappend ResistanceTensor::spheroidRoughShellBeads %{
     val = _units.vectors_in_nm(val)
 %}
+%pythonappend ResistanceTensor::scaleBlobsToFriction %{
+    val = _units.vectors_in_nm(val)
+%}
 %pythonprepend ResistanceTensor::rotated %{
     rotation = _units.rotation_values(rotation)
 %}
@@ -469,6 +472,8 @@ public:
                                                      const std::vector<double>& b, double beadRadius);
     static ResistanceTensor spheroidShellExtrapolated(const std::vector<Vec3>& centers, const std::vector<Vec3>& axes, const std::vector<double>& a,
                                                       const std::vector<double>& b, int maxBeads = 2000, int numResolutions = 6);
+    static std::vector<Vec3> scaleBlobsToFriction(const std::vector<Vec3>& blobPositions, const std::vector<double>& blobRadii, const Vec3& center,
+                                                  const ResistanceTensor& target);
     static ResistanceTensor freeDrainingBeads(const std::vector<Vec3>& positions, const std::vector<double>& radii);
     const Vec3& getOrigin() const;
     std::vector<double> getMatrix(const Vec3& origin) const;

@@ -276,14 +276,16 @@ def test_short_time_self_diffusion_of_a_dilute_suspension_converges_to_batchelor
     At the Rotne-Prager-Yamakawa level (one blob a sphere) c = 0 exactly: a blob's self block does
     not depend on another blob outside it; all of -1.83 is the field the second sphere reflects,
     which a sphere needs its surface resolved to send. Here each sphere is a shell of blobs of
-    radius sigma on its surface (roughShellBeads), calibrated to 6 pi eta a alone (own=, as the
-    integrator does), each tiling turned at random (the standard errors are over four draws):
-    65, 136 and 284 blobs a sphere give -2.025 +- 0.001, -1.987 +- 0.001 and -1.938 +- 0.0003
-    (measured once with one tiling orientation: 560 blobs -1.91, 1142 blobs -1.88), converging to
-    Batchelor's value, and the straight line in sigma through them reaches it at sigma = 0
-    (-1.841 +- 0.001, against -1.8315 for the exact functions; curvature leaves about 0.03). A factor 2 in the
-    reflected field, or a calibration left out (c then diverges), fails by far more than the 3%
-    allowed."""
+    radius sigma (roughShellBeads), calibrated to 6 pi eta a alone (own=, as the integrator does),
+    each tiling turned at random (the standard errors are over three draws), either on the surface
+    or scaled until its blobs alone have the sphere's friction (scaleBlobsToFriction), so that the
+    calibration leaves the far field alone. On the surface, 65, 136 and 284 blobs a sphere give
+    -2.025, -1.985 and -1.939 (+- 0.002; measured once with one tiling orientation: 560 blobs -1.91,
+    1142 blobs -1.88); scaled, -1.767, -1.791 and -1.802 (+- 0.001). Both converge to Batchelor's
+    value, the scaled ones faster, and the straight lines in sigma reach it at sigma = 0: -1.842 +-
+    0.001 and -1.836 +- 0.001 against -1.8315 for the exact functions (curvature leaves about 0.03
+    on the surface). A factor 2 in the reflected field, or a calibration left out (c then
+    diverges), fails by far more than the 3% and 1.5% allowed."""
     a, batchelor = 1.0, -1.8315
     # one blob a sphere: the self block of the mobility is that of a lone sphere, to round-off
     centre = np.array([2.5*a, 0, 0])
@@ -297,8 +299,7 @@ def test_short_time_self_diffusion_of_a_dilute_suspension_converges_to_batchelor
     u, w = (u+1)/2, w/2
     rng = np.random.default_rng(11)
 
-    def coefficient(sigma):
-        shell = hydro.roughShellBeads([(0, 0, 0)], [a], sigma).value_in_unit(unit.nanometer)
+    def coefficient(shell, sigma):
         radii = [sigma]*len(shell)
         total = 0
         for node, weight in zip(u, w):
@@ -307,23 +308,33 @@ def test_short_time_self_diffusion_of_a_dilute_suspension_converges_to_batchelor
             bodies = [(shell@turns[0], radii, (0, 0, 0)), (shell@turns[1]+centre, radii, centre)]
             m = hydro.coupledMobility(bodies, own=[hydro.sphere(a), hydro.sphere(a, centre)])*6*math.pi*a
             total += weight*8/node**4*(np.trace(m[:3, :3])-3)
-        return total, len(shell)
-    sigmas, means, errors = (0.14, 0.1, 0.07), [], []
+        return total
+    sigmas = (0.14, 0.1, 0.07)
+    results = {'on the surface': [], 'scaled to 6 pi eta a': []}
     for sigma in sigmas:
-        draws = [coefficient(sigma) for _ in range(4)]
-        values = [c for c, _ in draws]
-        means.append(np.mean(values))
-        errors.append(np.std(values, ddof=1)/2)
-        print(f'\nself-diffusion coefficient with {draws[0][1]} blobs a sphere: {means[-1]:.4f} +- {errors[-1]:.4f}', end='')
-    weights = 1/np.array(errors)
-    design = np.vstack([np.ones(3), sigmas]).T*weights[:, None]
-    (extrapolated, _), *_ = np.linalg.lstsq(design, np.array(means)*weights, rcond=None)
-    error = math.sqrt(np.linalg.inv(design.T@design)[0, 0])
-    print(f'\nextrapolated to zero blob size: {extrapolated:.4f} +- {error:.4f} (Batchelor {batchelor})')
-    assert max(errors) < 0.005
-    for coarse, fine, coarse_error, fine_error in zip(means, means[1:], errors, errors[1:]):
-        assert abs(fine-batchelor)+3*fine_error < abs(coarse-batchelor)-3*coarse_error  # nearer as blobs are refined
-    assert abs(extrapolated-batchelor) < 0.03*abs(batchelor)
+        surface = hydro.roughShellBeads([(0, 0, 0)], [a], sigma).value_in_unit(unit.nanometer)
+        scaled = hydro.scaleBlobsToFriction(surface, [sigma]*len(surface), (0, 0, 0), hydro.sphere(a)).value_in_unit(unit.nanometer)
+        for name, shell in (('on the surface', surface), ('scaled to 6 pi eta a', scaled)):
+            values = [coefficient(shell, sigma) for _ in range(3)]
+            results[name].append((np.mean(values), np.std(values, ddof=1)/math.sqrt(3)))
+            print(f'\nself-diffusion coefficient, {len(shell)} blobs a sphere {name}: {results[name][-1][0]:.4f} +- {results[name][-1][1]:.4f}', end='')
+    extrapolated = {}
+    for name, rows in results.items():
+        means, errors = np.array(rows).T
+        assert max(errors) < 0.005
+        for (coarse, coarse_error), (fine, fine_error) in zip(rows, rows[1:]):
+            assert abs(fine-batchelor)+3*fine_error < abs(coarse-batchelor)-3*coarse_error  # nearer as blobs are refined
+        weights = 1/errors
+        design = np.vstack([np.ones(3), sigmas]).T*weights[:, None]
+        (extrapolated[name], _), *_ = np.linalg.lstsq(design, means*weights, rcond=None)
+        error = math.sqrt(np.linalg.inv(design.T@design)[0, 0])
+        print(f'\n{name}, extrapolated to zero blob size: {extrapolated[name]:.4f} +- {error:.4f} (Batchelor {batchelor})', end='')
+    print()
+    assert abs(extrapolated['on the surface']-batchelor) < 0.03*abs(batchelor)
+    assert abs(extrapolated['scaled to 6 pi eta a']-batchelor) < 0.015*abs(batchelor)
+    for (surface, _), (scaled, _) in zip(results['on the surface'], results['scaled to 6 pi eta a']):
+        assert abs(scaled-batchelor) < 0.6*abs(surface-batchelor)  # scaled shells are nearer at every resolution
+    assert abs(results['scaled to 6 pi eta a'][-1][0]-batchelor) < 0.025*abs(batchelor)
 
 
 def test_calibration_scales_the_coupling_of_distant_bodies():
@@ -333,19 +344,28 @@ def test_calibration_scales_the_coupling_of_distant_bodies():
     coupling by T^-1 on each side: for spheres of radius a by a_eff/a, a_eff the radius their
     blobs' own friction gives (6 pi eta a_eff). Shells of 65, 136 and 284 blobs on the surface:
     a_eff/a = 1.036, 1.026, 1.018, and the calibrated coupling 3.6%, 2.6%, 1.8% too strong,
-    shrinking as the blobs resolve the sphere (the README and CoupledResistance say so)."""
+    shrinking as the blobs resolve the sphere (the README and CoupledResistance say so). The same
+    shells scaled to the sphere's friction (scaleBlobsToFriction) couple by Oseen's tensor to the
+    tiling's anisotropy (0.1%)."""
     a, distance = 1.0, 1000.0
     centre = np.array([distance, 0, 0])
     oseen = np.array([2, 1, 1])/(8*math.pi*distance)  # the diagonal of (I + rr)/(8 pi r), r along x
     excess = []
+    own = [hydro.sphere(a), hydro.sphere(a, centre)]
     for sigma in (0.14, 0.1, 0.07):
         shell = hydro.roughShellBeads([(0, 0, 0)], [a], sigma).value_in_unit(unit.nanometer)
         bodies = [(shell, [sigma]*len(shell), (0, 0, 0)), (shell+centre, [sigma]*len(shell), centre)]
         effective = hydro.coupledResistance(bodies[:1])[:3, :3].trace()/3/(6*math.pi*a)
         plain = np.diag(hydro.coupledMobility(bodies)[:3, 6:9])
-        calibrated = np.diag(hydro.coupledMobility(bodies, own=[hydro.sphere(a), hydro.sphere(a, centre)])[:3, 6:9])
+        calibrated = np.diag(hydro.coupledMobility(bodies, own=own)[:3, 6:9])
         assert np.allclose(plain, oseen, rtol=1e-5)
         assert np.allclose(calibrated, effective*oseen, rtol=2e-3)
         excess.append(effective-1)
+        # scaled to the sphere's own friction, the calibration leaves the far field Oseen's
+        scaled = hydro.scaleBlobsToFriction(shell, [sigma]*len(shell), (0, 0, 0), hydro.sphere(a)).value_in_unit(unit.nanometer)
+        bodies = [(scaled, [sigma]*len(shell), (0, 0, 0)), (scaled+centre, [sigma]*len(shell), centre)]
+        assert np.allclose(np.diag(hydro.coupledMobility(bodies, own=own)[:3, 6:9]), oseen, rtol=2e-3)
     print(f'\ncalibrated coupling of distant spheres over Oseen, minus 1: {np.round(excess, 4)}')
+    with pytest.raises(mm.OpenMMException, match='less than the target.*larger'):
+        hydro.scaleBlobsToFriction([(0, 0, 0)]*unit.nanometer, [0.01]*unit.nanometer, (0, 0, 0)*unit.nanometer, hydro.sphere(a))
     assert excess[0] > excess[1] > excess[2] > 0.01

@@ -41,10 +41,12 @@ namespace RigidLangevinPlugin {
  * tends to the Oseen tensor whatever their blobs (a force seen from afar is a point force);
  * calibrated, it is T_a^-1 (coupling) T_b^-1: for spheres of radius a, the Oseen tensor times
  * a_eff/a, a_eff the radius of their blobs' own friction (shells of 65, 136 and 284 blobs on the
- * surface: 3.6%, 2.6% and 1.8% too strong). Blobs that resolve the body (D near Xi) keep that
- * error as small as the calibration; blobs far from it (a few small beads for a large body) couple
- * the body by their own size, not its. A correction that kept the far field exact instead (added to
- * each body's own mobility) exists only where Xi^-1 - D^-1 is positive semidefinite.
+ * surface: 3.6%, 2.6% and 1.8% too strong). Blobs far from the body's friction (a few small beads
+ * for a large body) couple it by their own size, not its. ResistanceTensor::scaleBlobsToFriction()
+ * scales a body's blobs until their translational friction is its own: then T is the identity on
+ * translation up to the blobs' anisotropy, and two distant spheres couple by the Oseen tensor to
+ * 0.1% (tested); such shells also give a suspension's short-time self-diffusion nearer Batchelor's
+ * exact value at every resolution than shells on the surface (tests/test_hydrodynamics.py).
  *
  * Dense and exact: M is Cholesky-factorised and solved for the 6N columns of K (cost (3B)^3/3 for B
  * blobs, memory 72 B^2 bytes). This is the definition of correct that faster methods are tested

@@ -125,6 +125,20 @@ public:
                                                       const std::vector<double>& a, const std::vector<double>& b, int maxBeads = 2000,
                                                       int numResolutions = 6);
     /**
+     * Blobs for hydrodynamic interactions (CoupledResistance, RigidLangevinIntegrator::
+     * setBodyBlobs()) whose friction alone matches a body's own tensor: the blobs' centres scaled
+     * about center (radii unchanged) until the trace of their translational friction (beads()
+     * without volume correction) equals that of target's, to 1e-12. A body calibrated to target
+     * (CoupledResistance::setBodyResistance()) then couples to distant bodies by the Oseen tensor
+     * itself rather than one scaled by its blobs' friction: a rough shell of a sphere on its
+     * surface (roughShellBeads()) over-resists by about the bead radius, scaled it sits just
+     * inside. Throws an OpenMMException, naming the fix, if the blobs are invalid (as in beads()),
+     * center is not finite, or no scale between 0.1 and 10 reaches the target (blobs too large or
+     * too small for it).
+     */
+    static std::vector<OpenMM::Vec3> scaleBlobsToFriction(const std::vector<OpenMM::Vec3>& blobPositions, const std::vector<double>& blobRadii,
+                                                          const OpenMM::Vec3& center, const ResistanceTensor& target);
+    /**
      * A free-draining bead model: each bead feels Stokes friction 6 pi r_i of its own velocity, with
      * no hydrodynamic interaction between beads. Beads of zero radius are skipped. The origin is
      * the first bead's position.

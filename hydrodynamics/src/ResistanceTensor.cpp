@@ -136,6 +136,69 @@ vector<Vec3> ResistanceTensor::roughShellBeads(const vector<Vec3>& positions, co
     return ShellModel::tileSphereUnion(positions, radii, beadRadius);
 }
 
+vector<Vec3> ResistanceTensor::scaleBlobsToFriction(const vector<Vec3>& blobPositions, const vector<double>& blobRadii, const Vec3& center,
+                                                    const ResistanceTensor& target) {
+    const std::string caller = "ResistanceTensor::scaleBlobsToFriction";
+    BeadHydrodynamics::validate(caller, blobPositions, blobRadii);
+    checkCenter(caller, center);
+    Matrix6 wanted = toMatrix(target.values);
+    const double wantedTrace = wanted.block<3, 3>(0, 0).trace();  // the translational block is the same about any point
+    auto scaled = [&](double scale) {
+        vector<Vec3> p;
+        for (const Vec3& x : blobPositions)
+            p.push_back(center+(x-center)*scale);
+        return p;
+    };
+    // The blobs' translational friction grows with their spread: bracket the scale, then regula falsi.
+    auto excess = [&](double scale) {
+        return BeadHydrodynamics::resistance(caller, scaled(scale), blobRadii, center).block<3, 3>(0, 0).trace()/wantedTrace-1;
+    };
+    double low = 1, high = 1, fLow = excess(1), fHigh = fLow;
+    const double step = 1.25, minScale = 0.1, maxScale = 10;
+    while (fLow > 0) {
+        high = low;
+        fHigh = fLow;
+        low /= step;
+        if (low < minScale)
+            throw OpenMMException(caller+": the blobs resist translation more than the target even drawn in to a tenth of their spread; "
+                                  "give smaller blobs (or fewer) for this body");
+        fLow = excess(low);
+    }
+    while (fHigh < 0) {
+        low = high;
+        fLow = fHigh;
+        high *= step;
+        if (high > maxScale)
+            throw OpenMMException(caller+": the blobs resist translation less than the target even spread out tenfold; give larger "
+                                  "blobs (or more) for this body");
+        fHigh = excess(high);
+    }
+    double scale = low;
+    int lastMoved = 0;  // -1 low, +1 high
+    for (int iteration = 0; iteration < 200 && high-low > 1e-14*high; iteration++) {
+        scale = (low*fHigh-high*fLow)/(fHigh-fLow);
+        double f = excess(scale);
+        if (std::abs(f) < 1e-13)
+            break;
+        // Illinois: when the same end moves twice, halve the other's value so that it moves too.
+        if (f < 0) {
+            low = scale;
+            fLow = f;
+            if (lastMoved == -1)
+                fHigh /= 2;
+            lastMoved = -1;
+        }
+        else {
+            high = scale;
+            fHigh = f;
+            if (lastMoved == 1)
+                fLow /= 2;
+            lastMoved = 1;
+        }
+    }
+    return scaled(scale);
+}
+
 ResistanceTensor ResistanceTensor::roughShell(const vector<Vec3>& positions, const vector<double>& radii, double beadRadius) {
     ShellModel::validateSpheres("ResistanceTensor::roughShell", positions, radii);
     checkBeadRadius("ResistanceTensor::roughShell", beadRadius);

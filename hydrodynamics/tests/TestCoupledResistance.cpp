@@ -185,6 +185,58 @@ TEST(CoupledResistance, TwoSpheresConvergeToJeffreyOnishi) {
     EXPECT_LT(std::abs(fineSettling-exactSettling), std::abs(coarseSettling-exactSettling));
 }
 
+TEST(CoupledResistance, BlobsScaledToTheirBodysFrictionCoupleByOseen) {
+    // Far apart (r = 500 a), two calibrated spheres couple by the Oseen tensor (I + rr)/(8 pi r)
+    // times the ratio of their blobs' friction to their own: a rough shell on the surface (sigma =
+    // a/10) over-resists by about 2.7%, and so does its coupling. Scaled to the sphere's friction
+    // (ResistanceTensor::scaleBlobsToFriction), the shell sits just inside the surface and the
+    // coupling is Oseen's to the far field's own (a/r)^2 terms.
+    const double a = 0.5, sigma = 0.05, r = 500*a;
+    const Vec3 c1(0.1, -0.2, 0.3), c2 = c1+Vec3(r, 0, 0);
+    auto distance = [](const Vec3& x, const Vec3& y) { return std::sqrt((x-y).dot(x-y)); };
+    vector<Vec3> shell = ResistanceTensor::roughShellBeads({c1}, {a}, sigma);
+    vector<double> radii(shell.size(), sigma);
+    vector<Vec3> scaled = ResistanceTensor::scaleBlobsToFriction(shell, radii, c1, ResistanceTensor::sphere(a, c1));
+    auto translationalTrace = [&](const vector<Vec3>& blobs, const vector<double>& blobRadii) {
+        return toMatrix6(ResistanceTensor::beads(blobs, blobRadii).getMatrix(c1)).topLeftCorner(3, 3).trace();
+    };
+    EXPECT_NEAR(translationalTrace(scaled, radii), 18*M_PI*a, 1e-10*18*M_PI*a);
+    for (int i = 0; i < (int) shell.size(); i++)
+        EXPECT_NEAR(distance(scaled[i], c1), 0.972*distance(shell[i], c1), 0.002*a);  // measured 0.9722
+    auto couplingOverOseen = [&](const vector<Vec3>& blobs) {
+        vector<Vec3> moved;
+        for (const Vec3& p : blobs)
+            moved.push_back(p+c2-c1);
+        CoupledResistance coupled;
+        coupled.addBody(blobs, radii, c1);
+        coupled.addBody(moved, radii, c2);
+        coupled.setBodyResistance(0, ResistanceTensor::sphere(a, c1));
+        coupled.setBodyResistance(1, ResistanceTensor::sphere(a, c2));
+        Matrix mobility = toMatrix(coupled.getMobility(), 12);
+        return Eigen::Vector3d(mobility(0, 6)*4*M_PI*r, mobility(1, 7)*8*M_PI*r, mobility(2, 8)*8*M_PI*r);
+    };
+    Eigen::Vector3d surface = couplingOverOseen(shell), inside = couplingOverOseen(scaled);
+    for (int k = 0; k < 3; k++) {
+        EXPECT_GT(surface[k]-1, 0.02);
+        EXPECT_NEAR(inside[k], 1, 2e-3);  // the tiling's own anisotropy: 1.0010, 0.9995, 0.9995
+    }
+    EXPECT_NEAR(inside.mean(), 1, 2e-4);  // the trace is matched
+    // Blobs too small spread out; a lone blob cannot change its friction and is refused, as are blobs
+    // that over-resist even drawn in, and a centre that is not finite.
+    vector<Vec3> small = {c1+Vec3(0.2, 0, 0), c1+Vec3(-0.1, 0.17, 0), c1+Vec3(-0.1, -0.17, 0), c1+Vec3(0, 0, 0.2)};
+    vector<double> smallRadii(4, 0.15);
+    vector<Vec3> spread = ResistanceTensor::scaleBlobsToFriction(small, smallRadii, c1, ResistanceTensor::sphere(a, c1));
+    EXPECT_GT(distance(spread[0], c1), 1.2*distance(small[0], c1));
+    EXPECT_NEAR(translationalTrace(spread, smallRadii), 18*M_PI*a, 1e-10*18*M_PI*a);
+    expectThrowMentioning([&] { ResistanceTensor::scaleBlobsToFriction({c1}, {0.01}, c1, ResistanceTensor::sphere(a, c1)); },
+                          {"less than the target", "larger"});
+    expectThrowMentioning([&] { ResistanceTensor::scaleBlobsToFriction({c1}, {0.8}, c1, ResistanceTensor::sphere(a, c1)); },
+                          {"more than the target", "smaller"});
+    expectThrowMentioning([&] { ResistanceTensor::scaleBlobsToFriction(shell, radii, Vec3(std::nan(""), 0, 0), ResistanceTensor::sphere(a)); },
+                          {"centre"});
+    expectThrowMentioning([&] { ResistanceTensor::scaleBlobsToFriction(shell, {sigma}, c1, ResistanceTensor::sphere(a)); }, {"scaleBlobsToFriction"});
+}
+
 TEST(CoupledResistance, RejectsBadInput) {
     CoupledResistance coupled;
     EXPECT_THROW(coupled.getResistance(), OpenMMException);

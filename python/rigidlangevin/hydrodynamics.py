@@ -28,7 +28,7 @@ from .core import CoupledResistance, ResistanceTensor
 
 __all__ = ['ResistanceTensor', 'CoupledResistance', 'coupledResistance', 'coupledMobility', 'sphere', 'ellipsoid', 'spheroid', 'beads', 'beadVolume', 'unionVolume', 'roughShell',
            'roughShellBeads', 'shellExtrapolated', 'spheroidRoughShell', 'spheroidRoughShellBeads', 'spheroidShellExtrapolated',
-           'freeDrainingBeads', 'explicit', 'protein', 'HYDROPRO_ATOMIC_RADIUS', 'diffusionConstants']
+           'scaleBlobsToFriction', 'freeDrainingBeads', 'explicit', 'protein', 'HYDROPRO_ATOMIC_RADIUS', 'diffusionConstants']
 
 from ._units import lengths_in_nm as _lengths
 
@@ -134,6 +134,12 @@ def spheroidRoughShellBeads(centers, axes, a, b, beadRadius):
 @_as(ResistanceTensor.spheroidShellExtrapolated, _SPHEROIDS)
 def spheroidShellExtrapolated(centers, axes, a, b, maxBeads=2000, numResolutions=6):
     return ResistanceTensor.spheroidShellExtrapolated(*_spheroids(centers, axes, a, b), int(maxBeads), int(numResolutions))
+
+
+@_as(ResistanceTensor.scaleBlobsToFriction, _POSITIONS+' center in nm or a Quantity; tensor a ResistanceTensor. Returns an (N, 3) '
+     'Quantity in nm.')
+def scaleBlobsToFriction(positions, radii, center, tensor):
+    return ResistanceTensor.scaleBlobsToFriction(_vectors(positions), _lengths(radii), _point(center), tensor)
 
 
 @_as(ResistanceTensor.freeDrainingBeads, _POSITIONS)
