@@ -63,9 +63,10 @@ CM2_S = 1e3  # nm^2/ps in 1e-5 cm^2/s
 PENTANES = ps.PENTANES
 CANONICAL_BOX = 4.0  # nm: the box of the Systems whose fingerprints identify the model
 IMPLICIT_SCHEMES = ('ExactFlow', 'BAOAB', 'LangevinMiddle')
-# Flow speeds at harmonics 1, 2, 3 of the box: equal largest shear rates k V, and harmonic 1 at
-# half the speed too, to show the response is linear.
-VISCOSITY_SERIES = ((1, 0.05), (1, 0.025), (2, 0.025), (3, 0.05/3))
+# Flow speeds at harmonics 1, 2, 3 of the box, two series of equal shear rates k V (n V = 0.05 and
+# 0.025 nm/ps): each series extrapolates to k = 0 on its own, and the lower rate's stands for the
+# Newtonian viscosity (pentane_solvent.newtonian_rate), the two together showing shear thinning.
+VISCOSITY_SERIES = ((1, 0.05), (1, 0.025), (2, 0.025), (3, 0.05/3), (2, 0.0125), (3, 0.025/3))
 
 SETTINGS = {
     'quick': dict(density_runs=1, density_ps=10, viscosity_runs=1, viscosity_ps=5, build_up_ps=2, scene_box_runs=1, scene_box_ps=5,
@@ -396,9 +397,10 @@ def write_report(out, settings, xi, density_stage, viscosity_stages, box_stage, 
     import matplotlib
     matplotlib.use('Agg')
     written = ['tensor.md']
-    if not has_runs(density_stage, *viscosity_stages):
+    measured = [stage for stage in viscosity_stages if has_runs(stage)]
+    if not has_runs(density_stage) or not ps.extrapolations_by_shear_rate([viscosity_result(stage) for stage in measured]):
         return written
-    eta0, eta0_error = solvent_report(out, settings, density_stage, viscosity_stages)
+    eta0, eta0_error = solvent_report(out, settings, density_stage, measured)
     written.append('pentane.md')
     if has_runs(box_stage, explicit_stage, *implicit_stages):
         banana_report(out, settings, xi, eta0, eta0_error, box_stage, explicit_stage, implicit_stages)
@@ -411,9 +413,10 @@ def solvent_report(out, settings, density_stage, viscosity_stages):
     import matplotlib.pyplot as plt
     density = density_result(density_stage)
     viscosities = [viscosity_result(stage) for stage in viscosity_stages]
-    fitted = [v for v in viscosities if abs(v['speed']*v['harmonic']-VISCOSITY_SERIES[0][1]) < 1e-9]  # equal largest shear rates
-    eta0, eta0_error, slope, slope_error, fit_chi2 = ps.extrapolate_to_zero_wavenumber(
-        [v['wavenumber'] for v in fitted], [v['eta'] for v in fitted], [v['error'] for v in fitted])
+    fits = ps.extrapolations_by_shear_rate(viscosities)
+    rate = ps.newtonian_rate(fits)
+    eta0, eta0_error = fits[rate]['eta0'], fits[rate]['error']
+    box = viscosity_stages[0].inputs['box']
     cp = ps.AMU_PER_NM_PS_IN_CP
     deviation = density['density']/ps.EXPERIMENT_DENSITY-1
     lines = ['# The pentane model at 273.15 K and 1 bar', '',
@@ -440,9 +443,14 @@ def solvent_report(out, settings, density_stage, viscosity_stages):
     for v in viscosities:
         lines.append(f'| {v["harmonic"]} | {v["wavenumber"]:.4f} | {v["speed"]:.4f} | {v["runs"]} | {v["temperature"]:.2f} | '
                      f'{v["eta"]*cp:.4f} ± {v["error"]*cp:.4f} |')
-    lines += ['', f'Extrapolation eta(k) = eta_0 + c k^2 over the runs at equal largest shear rate (k V = {VISCOSITY_SERIES[0][1]*2*math.pi/viscosity_stages[0].inputs["box"]:.3f}/ps): '
-              f'eta_0 = {eta0*cp:.4f} ± {eta0_error*cp:.4f} cP, c = {slope*cp:.5f} ± {slope_error*cp:.5f} cP nm^2, chi-squared {fit_chi2:.2f} '
-              f'for {len(fitted)-2} degree(s) of freedom.', '',
+    lines += ['', 'Extrapolations eta(k) = eta_0 + c k^2, one per shear rate (the harmonics of one series share k V); eta_0 above is '
+              'the lowest rate\'s with three harmonics (the least shear thinning; pentane_solvent.newtonian_rate):', '',
+              '| shear rate k V (1/ps) | harmonics | eta_0 (cP) | c (cP nm^2) | chi-squared (degrees of freedom) |', '|---|---|---|---|---|']
+    for r, fit in fits.items():
+        lines.append(f'| {r*2*math.pi/box:.3f}{" (taken)" if r == rate else ""} | {", ".join(str(v["harmonic"]) for v in fit["fitted"])} | '
+                     f'{fit["eta0"]*cp:.4f} ± {fit["error"]*cp:.4f} | {fit["slope"]*cp:.5f} ± {fit["slope_error"]*cp:.5f} | '
+                     f'{fit["chi2"]:.2f} ({len(fit["fitted"])-2}) |')
+    lines += ['',
               'Published: no TraPPE-UA shear viscosity of n-pentane near 273 K was found in the sources reachable when this was '
               'written. Dysthe, Fuchs & Rousseau (J. Chem. Phys. 112, 7581 (2000)), comparing seven united-atom alkane models, '
               'found their viscosities underestimated the more the denser and colder the liquid (by up to 80%), the sign of '
@@ -461,12 +469,15 @@ def solvent_report(out, settings, density_stage, viscosity_stages):
     left.set_ylabel('density (g/mL)')
     left.set_title('pentane NPT, 273.15 K, 1 bar (dotted: settled from)')
     left.legend(fontsize=8)
-    k2 = np.array([v['wavenumber']**2 for v in viscosities])
-    right.errorbar(k2, [v['eta']*cp for v in viscosities], yerr=[v['error']*cp for v in viscosities], fmt='o', capsize=3)
+    grid = np.linspace(0, max(v['wavenumber'] for v in viscosities)**2*1.05, 50)
+    for r, fit in fits.items():
+        group = fit['fitted']
+        points = right.errorbar([v['wavenumber']**2 for v in group], [v['eta']*cp for v in group], yerr=[v['error']*cp for v in group],
+                                fmt='o', capsize=3)
+        right.plot(grid, (fit['eta0']+fit['slope']*grid)*cp, '-', lw=1, color=points[0].get_color(),
+                   label=f'k V = {r*2*math.pi/box:.3f}/ps: eta_0 = {fit["eta0"]*cp:.3f} ± {fit["error"]*cp:.3f} cP')
     for v in viscosities:
         right.annotate(f'n={v["harmonic"]}, V={v["speed"]:.3f}', (v['wavenumber']**2, v['eta']*cp), fontsize=7, xytext=(4, 4), textcoords='offset points')
-    grid = np.linspace(0, k2.max()*1.05, 50)
-    right.plot(grid, (eta0+slope*grid)*cp, 'k-', lw=1, label=f'fit: eta_0 = {eta0*cp:.3f} ± {eta0_error*cp:.3f} cP')
     right.axhline(ps.EXPERIMENT_VISCOSITY, color='r', ls='--', label='experiment')
     right.set_xlabel('k^2 (1/nm^2)')
     right.set_ylabel('eta (cP)')

@@ -214,3 +214,28 @@ def extrapolate_to_zero_wavenumber(wavenumbers, etas, errors):
     coefficients = covariance@design.T@(etas/errors)
     chi2 = float(np.sum(((design@coefficients)-etas/errors)**2))
     return (float(coefficients[0]), float(math.sqrt(covariance[0, 0])), float(coefficients[1]), float(math.sqrt(covariance[1, 1])), chi2)
+
+
+def extrapolations_by_shear_rate(viscosities):
+    """The extrapolations to k = 0 of viscosities measured at several harmonics n, one per shear
+    rate: a harmonic's flow speed V is set so that n V, and with it the shear rate k V, is shared by
+    the harmonics of one series. viscosities: dicts with 'harmonic', 'speed', 'wavenumber', 'eta',
+    'error'. Returns {n V: dict(eta0, error, slope, slope_error, chi2, fitted=[the viscosities])}
+    over the rates with two harmonics or more."""
+    fits = {}
+    for rate in sorted({round(v['harmonic']*v['speed'], 9) for v in viscosities}):
+        group = sorted((v for v in viscosities if abs(v['harmonic']*v['speed']-rate) < 1e-9), key=lambda v: v['harmonic'])
+        if len({v['harmonic'] for v in group}) >= 2:
+            eta0, error, slope, slope_error, chi2 = extrapolate_to_zero_wavenumber(
+                [v['wavenumber'] for v in group], [v['eta'] for v in group], [v['error'] for v in group])
+            fits[rate] = dict(eta0=eta0, error=error, slope=slope, slope_error=slope_error, chi2=chi2, fitted=group)
+    return fits
+
+
+def newtonian_rate(fits):
+    """The shear rate whose extrapolation stands for the Newtonian viscosity: the lowest with three
+    harmonics or more (the least shear thinning, and a line with a degree of freedom to test it),
+    else the one with the most harmonics (the highest rate among equals)."""
+    full = [rate for rate, fit in fits.items() if len(fit['fitted']) >= 3]
+    return min(full) if full else max(fits, key=lambda rate: (len(fits[rate]['fitted']), rate))
+

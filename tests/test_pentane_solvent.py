@@ -175,3 +175,23 @@ def test_extrapolation_to_zero_wavenumber():
     assert np.mean(fits[:, 4]) == pytest.approx(1.0, rel=0.15)  # chi-squared with one degree of freedom
     with pytest.raises(ValueError, match='two wavenumbers'):
         ps.extrapolate_to_zero_wavenumber([1.5, 1.5], [0.2, 0.21], [0.01, 0.01])
+
+
+def test_extrapolations_by_shear_rate_and_the_newtonian_choice():
+    # Viscosities on exact lines in k^2, one per shear rate n V, whose intercepts fall with the rate
+    # (shear thinning): each rate's line is recovered from its own harmonics only; the Newtonian
+    # viscosity is taken at the lowest rate with three harmonics, not at a lower rate with two.
+    k1 = 1.6
+
+    def series(rate, harmonics, eta0):
+        return [dict(harmonic=n, speed=rate/n, wavenumber=n*k1, eta=eta0-0.003*(n*k1)**2, error=0.002) for n in harmonics]
+    viscosities = series(0.05, (1, 2, 3), 0.175)+series(0.025, (1, 2, 3), 0.2)+series(0.0125, (1, 2), 0.21)+series(0.006, (1,), 0.3)
+    fits = ps.extrapolations_by_shear_rate(viscosities)
+    assert sorted(fits) == [0.0125, 0.025, 0.05]  # a lone harmonic has no line
+    for rate, eta0 in ((0.05, 0.175), (0.025, 0.2), (0.0125, 0.21)):
+        assert fits[rate]['eta0'] == pytest.approx(eta0, rel=1e-10) and fits[rate]['slope'] == pytest.approx(-0.003, rel=1e-8)
+    assert [v['harmonic'] for v in fits[0.025]['fitted']] == [1, 2, 3]
+    assert ps.newtonian_rate(fits) == 0.025
+    assert ps.newtonian_rate(ps.extrapolations_by_shear_rate(series(0.05, (1, 2, 3), 0.175)+series(0.025, (1,), 0.2))) == 0.05
+    assert ps.newtonian_rate(ps.extrapolations_by_shear_rate(series(0.05, (1, 2), 0.175)+series(0.025, (2, 3), 0.2))) == 0.05
+
