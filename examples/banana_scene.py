@@ -30,7 +30,8 @@ correlations.csv/.png (velocity and orientational autocorrelations, explicit aga
     python examples/banana_scene.py                            # the full study, into examples/results/banana_scene:
                                                                # runs only what is not on disk yet
     python examples/banana_scene.py --stages explicit --add 4  # 4 more explicit replicas
-    mpirun --allow-run-as-root -np 2 .venv/bin/python examples/banana_scene.py --threads 1   # runs spread over ranks
+    mpirun --allow-run-as-root --mca mpi_yield_when_idle 1 -np 2 .venv/bin/python examples/banana_scene.py --threads 1
+        # runs spread over ranks; a rank left without a run waits without holding its core
 
 Standard errors: of a time series from its statistical inefficiency, of replicas from their
 spread over sqrt(replicas).
