@@ -196,6 +196,8 @@ vector<Vec3> ResistanceTensor::scaleBlobsToFriction(const vector<Vec3>& blobPosi
             lastMoved = 1;
         }
     }
+    if (std::abs(excess(scale)) > 1e-10)
+        throw OpenMMException(caller+": the blobs' friction did not converge to the target's; give blobs that do not overlap as much");
     return scaled(scale);
 }
 
