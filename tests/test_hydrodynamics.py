@@ -288,8 +288,8 @@ def test_dilute_suspension_of_resolved_spheres_converges_to_batchelors_coefficie
         U/U0 = 1 + S phi,   S = c + int_2^inf rho^2 tr(N12 - A1 M A2^T) d rho - 5 tr(A1 A2^T)/3,
 
     N12 the pair's coupling and M the RPY kernel of radius a (units of 1/(6 pi eta a)); the
-    subtracted far field leaves an integrand of order rho^-5 (75/4 rho^-7 for exact spheres, which
-    gives about +0.28). Batchelor (J. Fluid Mech. 52, 245 (1972)): S = -6.55.
+    subtracted far field leaves an integrand of order rho^-5 (for exact spheres x12a + 2 y12a - 3/rho
+    = 75/4 rho^-7 + ..., whose integral alone is +0.29). Batchelor (J. Fluid Mech. 52, 245 (1972)): S = -6.55.
 
     With u = 2/rho the integrals run over (0, 1] with a smooth integrand (-15/8 at u -> 0 for c):
     eight Gauss-Legendre nodes in u (sixteen change c by 5e-4 and the coupling term by 1e-3).
