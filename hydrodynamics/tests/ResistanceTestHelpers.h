@@ -20,6 +20,11 @@ inline Matrix6 toMatrix6(const std::vector<double>& values) {
     return Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor> >(values.data());
 }
 
+/** The distance between two points. */
+inline double distance(const OpenMM::Vec3& a, const OpenMM::Vec3& b) {
+    return std::sqrt((a-b).dot(a-b));
+}
+
 /** Largest element of |a - b| relative to the largest element of |b|. */
 inline double relativeDifference(const Matrix6& a, const Matrix6& b) {
     return (a-b).cwiseAbs().maxCoeff()/b.cwiseAbs().maxCoeff();

@@ -193,7 +193,6 @@ TEST(CoupledResistance, BlobsScaledToTheirBodysFrictionCoupleByOseen) {
     // coupling is Oseen's to the far field's own (a/r)^2 terms.
     const double a = 0.5, sigma = 0.05, r = 500*a;
     const Vec3 c1(0.1, -0.2, 0.3), c2 = c1+Vec3(r, 0, 0);
-    auto distance = [](const Vec3& x, const Vec3& y) { return std::sqrt((x-y).dot(x-y)); };
     vector<Vec3> shell = ResistanceTensor::roughShellBeads({c1}, {a}, sigma);
     vector<double> radii(shell.size(), sigma);
     vector<Vec3> scaled = ResistanceTensor::scaleBlobsToFriction(shell, radii, c1, ResistanceTensor::sphere(a, c1));

@@ -18,10 +18,6 @@ using std::vector;
 
 namespace {
 
-double distance(const Vec3& a, const Vec3& b) {
-    return std::sqrt((a-b).dot(a-b));
-}
-
 double smallestSeparation(const vector<Vec3>& beads) {
     double smallest = INFINITY;
     for (int i = 0; i < (int) beads.size(); i++)

@@ -199,10 +199,11 @@ public:
      * surface (ResistanceTensor::roughShellBeads()) converge to the exact two-body friction as they
      * are refined. The calibration scales the coupling of distant bodies by the ratio of their
      * blobs' friction to their own (see CoupledResistance), so give a body blobs whose friction
-     * alone is its tensor's: ResistanceTensor::scaleBlobsToFriction() scales them to it. The friction is recomputed every step, on every platform, in double precision:
-     * dense on Reference (Cholesky; cost (3B)^3/3 for B blobs in all), and on CPU, OpenCL and CUDA
-     * from 100 blobs matrix-free (conjugate gradients for the friction, Lanczos for the noise,
-     * each preconditioned by every body's own blocks, to a relative residual of 1e-10; a solve that
+     * alone is its tensor's: ResistanceTensor::scaleBlobsToFriction() scales them to it. The
+     * friction is recomputed every step, on every platform, in double precision: dense on
+     * Reference (Cholesky; cost (3B)^3/3 for B blobs in all), and on CPU, OpenCL and CUDA from 100
+     * blobs matrix-free (conjugate gradients for the friction, Lanczos for the noise, each
+     * preconditioned by every body's own blocks, to a relative residual of 1e-10; a solve that
      * does not converge throws; in a periodic box with the Ewald-summed mobility formed once a
      * step), dense below that. On OpenCL and CUDA the coupled step is taken on the host, the blobs'
      * mobility products of the Krylov solves in an unbounded solvent on the device (a tiled kernel,
