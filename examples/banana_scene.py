@@ -399,9 +399,10 @@ def write_report(out, settings, xi, density_stage, viscosity_stages, box_stage, 
     matplotlib.use('Agg')
     written = ['tensor.md']
     measured = [stage for stage in viscosity_stages if has_runs(stage)]
-    if not has_runs(density_stage) or not ps.extrapolations_by_shear_rate([viscosity_result(stage) for stage in measured]):
+    viscosities = [viscosity_result(stage) for stage in measured]
+    if not has_runs(density_stage) or not ps.extrapolations_by_shear_rate(viscosities):
         return written
-    eta0, eta0_error = solvent_report(out, settings, density_stage, measured)
+    eta0, eta0_error = solvent_report(out, settings, density_stage, measured, viscosities)
     written.append('pentane.md')
     if has_runs(box_stage, explicit_stage, *implicit_stages):
         banana_report(out, settings, xi, eta0, eta0_error, box_stage, explicit_stage, implicit_stages)
@@ -409,11 +410,12 @@ def write_report(out, settings, xi, density_stage, viscosity_stages, box_stage, 
     return written
 
 
-def solvent_report(out, settings, density_stage, viscosity_stages):
-    """pentane.md and density_trace.png; returns the model's viscosity at k = 0 and its error (amu/(nm ps))."""
+def solvent_report(out, settings, density_stage, viscosity_stages, viscosities):
+    """pentane.md and density_trace.png from the density runs and the viscosity stages with runs
+    (viscosities: their viscosity_result()); returns the model's viscosity at k = 0 and its error
+    (amu/(nm ps))."""
     import matplotlib.pyplot as plt
     density = density_result(density_stage)
-    viscosities = [viscosity_result(stage) for stage in viscosity_stages]
     fits = ps.extrapolations_by_shear_rate(viscosities)
     rate = ps.newtonian_rate(fits)
     eta0, eta0_error = fits[rate]['eta0'], fits[rate]['error']
