@@ -328,3 +328,7 @@ def test_hydrodynamic_interactions_benchmark_runs_each_solver(tmp_path, monkeypa
     for solve in ('lanczos', 'noise_cg', 'friction_cg'):
         assert rows[0][solve] == rows[1][solve] == ''
         assert float(rows[2][solve].split()[0]) >= 1, rows[2]
+    # On a GPU platform (PoCL here) with the dense step bounded away: the device's products, no dense row.
+    rows = bench.measure(4, 4, pairs=2, platform='OpenCL', properties={'Precision': 'double'}, max_dense_blobs=0)
+    assert [(r['platform'], r['solver']) for r in rows] == [('OpenCL', 'off'), ('OpenCL', 'krylov')]
+    assert float(rows[1]['friction_cg'].split()[0]) >= 1, rows[1]

@@ -48,7 +48,9 @@ protected:
     void computeBodyKineticEnergies(OpenMM::ContextImpl& context, double timeShift, double& translational, double& rotational, OpenMM::Vec3& momentum);
     void createRandomCheckpoint(std::ostream& stream);
     void loadRandomCheckpoint(std::istream& stream);
-    /** As on the CPU (where it was measured); the crossover on a GPU is not yet measured. */
+    /** As on the CPU. On an H200 (benchmarks/platforms/results/gpu_h200/hydrodynamic_interactions.csv)
+     *  the crossover depends on the bodies' shapes: dense is faster at 120 blobs of four-blob bodies,
+     *  Krylov at 50 single spheres; 100 is within 1.5 times of the faster at every size measured. */
     int getKrylovMinBlobs() const {
         return 100;
     }
