@@ -10,7 +10,9 @@ namespace RigidLangevinPlugin {
 /**
  * The blobs' mobility products for the Krylov solves of bodies coupled through the solvent,
  * computed on the device of a common compute platform: matrix-free, tiled (kernels/blobMobility.cc),
- * in double precision whatever the platform's precision. The blobs are uploaded once per step
+ * in double precision whatever the platform's precision. Each blob's sum over the others is split
+ * into parts (work groups of their own, added in order by a second kernel) until the product has
+ * enough work groups to fill the device. The blobs are uploaded once per step
  * (setBlobs), each product's force and velocity once per product; the solvers themselves run on
  * the host (HydrodynamicInteractions::krylovFrictionStep), as on the CPU, so that every platform
  * takes the same Krylov steps. In a periodic box the products are the host's (HostBlobMobility: the
@@ -24,11 +26,13 @@ public:
     void multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out);
     /** Blobs per work group (and per tile of local memory). */
     static const int TileSize = 64;
+    /** Tasks a product is split into at least, on any device (a GPU asks for more): see setBlobs. */
+    static const int MinWorkGroups = 16;
 private:
     OpenMM::ComputeContext& cc;
-    OpenMM::ComputeKernel kernel;
-    OpenMM::ComputeArray blobs, force, velocity;
-    int numBlobs;
+    OpenMM::ComputeKernel kernel, sumKernel;
+    OpenMM::ComputeArray blobs, force, velocity, parts;
+    int numBlobs, numParts;
     bool periodic;
     HostBlobMobility periodicOnHost;
 };

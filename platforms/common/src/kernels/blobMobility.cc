@@ -6,9 +6,14 @@
  * precision: conjugate gradients asked for a relative residual of 1e-10 cannot reach it with products
  * rounded to single precision.
  *
- * One work item per blob i sums over all blobs j, which pass through local memory a tile of
- * BLOB_TILE at a time (each is read from global memory once per work group, not once per item).
- * blob: x, y, z, radius per blob; force and velocity: 3 per blob.
+ * One work item per blob i sums over the blobs j of one part of the tiles, which pass through local
+ * memory a tile of BLOB_TILE at a time (each is read from global memory once per work group, not
+ * once per item). A work group is one (tile of i, part of j) task: with numParts parts the i blobs'
+ * sums are split numParts ways, so that a few thousand blobs still fill a GPU (one item per blob
+ * left it mostly idle: an H200 reached 1.5e9 blob pairs a second at 1e3 blobs). Part p writes its
+ * sums to out[3*numBlobs*p...]; sumBlobMobilityParts adds the parts in order (the same sum on every
+ * run), or with one part out is the velocity itself.
+ * blob: x, y, z, radius per blob; force: 3 per blob; out: 3 per blob per part.
  */
 #if defined(cl_khr_fp64)
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
@@ -16,13 +21,15 @@
 
 #define BLOB_PI 3.141592653589793
 
-KERNEL void multiplyBlobMobility(int numBlobs, GLOBAL const double* RESTRICT blob, GLOBAL const double* RESTRICT force,
-                                 GLOBAL double* RESTRICT velocity) {
+KERNEL void multiplyBlobMobility(int numBlobs, int numParts, int tilesPerPart, GLOBAL const double* RESTRICT blob,
+                                 GLOBAL const double* RESTRICT force, GLOBAL double* RESTRICT out) {
     LOCAL double tileBlob[4*BLOB_TILE];
     LOCAL double tileForce[3*BLOB_TILE];
+    const int numTiles = (numBlobs+BLOB_TILE-1)/BLOB_TILE;
     // The same number of passes for every item of a group, so that all reach each barrier.
-    for (int first = GROUP_ID*BLOB_TILE; first < numBlobs; first += NUM_GROUPS*BLOB_TILE) {
-        const int i = first+LOCAL_ID;
+    for (int task = GROUP_ID; task < numTiles*numParts; task += NUM_GROUPS) {
+        const int part = task/numTiles;
+        const int i = (task-part*numTiles)*BLOB_TILE+LOCAL_ID;
         const bool active = (i < numBlobs);
         double xi = 0, yi = 0, zi = 0, ai = 1;
         if (active) {
@@ -32,7 +39,8 @@ KERNEL void multiplyBlobMobility(int numBlobs, GLOBAL const double* RESTRICT blo
             ai = blob[4*i+3];
         }
         double vx = 0, vy = 0, vz = 0;
-        for (int tile = 0; tile < numBlobs; tile += BLOB_TILE) {
+        const int lastTile = min(numBlobs, (part+1)*tilesPerPart*BLOB_TILE);
+        for (int tile = part*tilesPerPart*BLOB_TILE; tile < lastTile; tile += BLOB_TILE) {
             const int j = tile+LOCAL_ID;
             if (j < numBlobs) {
                 for (int k = 0; k < 4; k++)
@@ -85,9 +93,20 @@ KERNEL void multiplyBlobMobility(int numBlobs, GLOBAL const double* RESTRICT blo
             SYNC_THREADS;
         }
         if (active) {
-            velocity[3*i] = vx;
-            velocity[3*i+1] = vy;
-            velocity[3*i+2] = vz;
+            GLOBAL double* partOut = out+3*numBlobs*part;
+            partOut[3*i] = vx;
+            partOut[3*i+1] = vy;
+            partOut[3*i+2] = vz;
         }
+    }
+}
+
+/** velocity = the sum of multiplyBlobMobility's numParts parts, in order. */
+KERNEL void sumBlobMobilityParts(int numBlobs, int numParts, GLOBAL const double* RESTRICT parts, GLOBAL double* RESTRICT velocity) {
+    for (int k = GLOBAL_ID; k < 3*numBlobs; k += GLOBAL_SIZE) {
+        double sum = 0;
+        for (int part = 0; part < numParts; part++)
+            sum += parts[3*numBlobs*part+k];
+        velocity[k] = sum;
     }
 }
