@@ -27,6 +27,15 @@ def platform_status(name):
     return None
 
 
+GPU_PLATFORMS = ('OpenCL', 'CUDA')
+
+
+def platform_properties(name, precision):
+    """The Context properties of a platform at a precision: the GPU platforms take one; the host
+    platforms compute in double precision and take none."""
+    return {'Precision': precision} if name in GPU_PLATFORMS else {}
+
+
 def running_context(system, integrator, positions, platform_name, properties, warmup_steps=0):
     """A Context on the named platform, at the positions, with velocities at 300 K (seed 1), after
     warmup_steps steps (so that kernels are compiled and neighbour lists built before timing)."""

@@ -38,7 +38,7 @@ import openmm.unit as unit
 
 import rigidlangevin as rl
 import benchmark_utils
-from benchmark_utils import mean_and_error, paired_times, platform_status, running_context, save_plot, write_table
+from benchmark_utils import mean_and_error, paired_times, platform_properties, platform_status, running_context, save_plot, write_table
 
 STEP_PS = 0.002
 SHAPES = {
@@ -52,7 +52,6 @@ SHAPES = {
 ITERATION_STEPS = 5
 # Dense coupled steps beyond this many blobs take seconds each (the Cholesky's cost grows as the cube).
 MAX_DENSE_BLOBS = 1200
-GPU_PLATFORMS = ('OpenCL', 'CUDA')
 
 
 def scene(num_bodies, blobs_per_body, seed=1):
@@ -182,7 +181,7 @@ def main():
     if status is not None:
         parser.error(f'{args.platform}: {status}')
     options = {'platform': args.platform, 'max_dense_blobs': args.max_dense_blobs,
-               'properties': {'Precision': args.precision} if args.platform in GPU_PLATFORMS else {}}
+               'properties': platform_properties(args.platform, args.precision)}
     if args.quick:
         systems, pairs = [(5, 4), (10, 1)], 2
     elif args.large:

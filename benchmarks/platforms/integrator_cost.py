@@ -16,7 +16,8 @@ import openmm as mm
 import openmm.unit as unit
 
 import rigidlangevin as rl
-from benchmark_utils import calibrated_steps, mean_and_error, paired_times, platform_status, running_context, save_plot, write_table
+from benchmark_utils import (GPU_PLATFORMS, calibrated_steps, mean_and_error, paired_times, platform_properties, platform_status,
+                             running_context, save_plot, write_table)
 
 WATER = np.array([[0, 0, 0], [0.09572, 0, 0], [-0.02399, 0.09266, 0]])
 MASSES = (15.999, 1.008, 1.008)
@@ -83,10 +84,10 @@ def main():
     rows = []
     for name in args.platforms:
         status = platform_status(name)
-        precisions = ['single', 'mixed', 'double'] if name in ('OpenCL', 'CUDA') else ['double']
+        precisions = ['single', 'mixed', 'double'] if name in GPU_PLATFORMS else ['double']
         if name == 'OpenCL':
             precisions = ['single', 'double']
-        if args.precisions and name in ('OpenCL', 'CUDA'):
+        if args.precisions and name in GPU_PLATFORMS:
             precisions = args.precisions
         for precision in precisions:
             if status is not None:
@@ -95,9 +96,8 @@ def main():
             for n in args.sizes:
                 if name == 'Reference' and n > 100000:
                     continue  # single-threaded double precision: the trend is clear well before
-                properties = {'Precision': precision} if name in ('OpenCL', 'CUDA') else {}
                 row = {'platform': name, 'precision': precision, 'bodies': n,
-                       **time_against_langevin_middle(n, name, properties, args.pairs)}
+                       **time_against_langevin_middle(n, name, platform_properties(name, precision), args.pairs)}
                 rows.append(row)
                 print(row, flush=True)
     columns = ['platform', 'precision', 'bodies', 'pairs', 'steps', 'ms_per_step', 'body_steps_per_s', 'us_per_body_step',

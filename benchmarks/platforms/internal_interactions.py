@@ -21,7 +21,8 @@ import openmm.app as app
 import openmm.unit as unit
 
 import rigidlangevin as rl
-from benchmark_utils import calibrated_steps, mean_and_error, paired_times, platform_status, running_context, save_plot, write_table
+from benchmark_utils import (calibrated_steps, mean_and_error, paired_times, platform_properties, platform_status, running_context,
+                             save_plot, write_table)
 
 VILLIN = os.path.join(os.path.dirname(app.__file__), 'data', 'test.pdb')
 
@@ -107,8 +108,7 @@ def main():
             if why:
                 print(f'{platform}: {why}')
                 continue
-            properties = {'Precision': 'mixed'} if platform in ('OpenCL', 'CUDA') else {}
-            made, report = contexts(system, positions, bodies, platform, properties)
+            made, report = contexts(system, positions, bodies, platform, platform_properties(platform, 'mixed'))
             # In turn over several pairs, so that both see the same machine load; each one's blocks
             # calibrated to last 0.3 s (a step without forces takes microseconds).
             steps = {key: calibrated_steps(integrator, context, args.steps) for key, (integrator, context) in made.items()}
