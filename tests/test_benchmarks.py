@@ -328,7 +328,15 @@ def test_hydrodynamic_interactions_benchmark_runs_each_solver(tmp_path, monkeypa
     for solve in ('lanczos', 'noise_cg', 'friction_cg'):
         assert rows[0][solve] == rows[1][solve] == ''
         assert float(rows[2][solve].split()[0]) >= 1, rows[2]
-    # On a GPU platform (PoCL here) with the dense step bounded away: the device's products, no dense row.
+    # On a GPU platform (PoCL here) with the dense step bounded away: the device's products, no dense
+    # row, and every Context on that platform in the precision asked for (not only the rows' label).
+    made = []
+
+    def recording_context(*args, **kwargs):
+        made.append(benchmark_utils.running_context(*args, **kwargs))
+        return made[-1]
+    monkeypatch.setattr(bench, 'running_context', recording_context)
     rows = bench.measure(4, 4, pairs=2, platform='OpenCL', properties={'Precision': 'double'}, max_dense_blobs=0)
     assert [(r['platform'], r['solver']) for r in rows] == [('OpenCL', 'off'), ('OpenCL', 'krylov')]
+    assert [(c.getPlatform().getName(), c.getPlatform().getPropertyValue(c, 'Precision')) for c in made] == [('OpenCL', 'double')]*2
     assert float(rows[1]['friction_cg'].split()[0]) >= 1, rows[1]
