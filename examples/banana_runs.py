@@ -26,6 +26,7 @@ KT = ps.KT
 SAMPLE_PS = 0.01  # every 10 fs: the velocity autocorrelation
 COARSE_PS = 0.1  # the lags of msd and cu
 VACF_PS = 2.0
+CHECKPOINT_SECONDS = 300.0  # how often (wall clock) a run with somewhere to keep its progress saves it
 EXPLICIT_STEP = ps.STEP
 IMPLICIT_STEP = 0.002
 SITE_RADIUS = 0.19  # nm: a pentane site's Stokes radius during the thermostatted equilibration
@@ -59,34 +60,60 @@ def displacement(series, lags):
     return np.array([np.mean(np.sum((series[lag:]-series[:n-lag])**2, axis=2)) for lag in lags])
 
 
-def sample_bananas(context, integrator, bodies, masses, weights, steps_per_sample, samples, max_lag_ps, on_coarse=None):
+def sample_bananas(context, integrator, bodies, masses, weights, steps_per_sample, samples, max_lag_ps, on_coarse=None,
+                   progress=None, saved=None, keep=None):
     """Run samples x steps_per_sample steps, recording every SAMPLE_PS the centres-of-mass velocity,
     and every COARSE_PS the centre of diffusion (weights on the first nine particles of each banana)
-    and the middle ellipsoid's axis, to lags of max_lag_ps at most. on_coarse(state) is called at
-    each coarse sample. Returns the observables (see the module's text)."""
+    and the middle ellipsoid's axis, to lags of max_lag_ps at most. on_coarse(state), called at
+    each coarse sample, returns numbers to record there (a series of each comes back). With
+    progress (a study folder's RunProgress), every CHECKPOINT_SECONDS of wall time, at a coarse
+    sample, the Context's checkpoint, the series so far and keep (the caller's numbers) are saved
+    there; saved (what progress.load() gave, the Context already restored from its 'checkpoint')
+    carries the run on from there. Returns the observables (see the module's text), the series of
+    on_coarse's numbers, and the sampling's wall-clock seconds (over every sitting)."""
     members = np.array(bodies)
     nine = members[:, :9]
     m = masses[members][:, :, None]
     total = m.sum(axis=1)
     per_coarse = int(round(COARSE_PS/SAMPLE_PS))
-    velocities, centers, axes = [], [], []
-    for sample in range(samples):
+    series = {'velocities': [], 'centers': [], 'axes': []}
+    first, earlier_seconds = 0, 0.0
+    if saved is not None:
+        first, earlier_seconds = int(saved['samples_done']), float(saved['sampling_seconds'])
+        series = {name: list(saved['series_'+name]) for name in saved['series_names']}
+    start = last_save = time.time()
+    for sample in range(first, samples):
         integrator.step(steps_per_sample)
         coarse = sample % per_coarse == per_coarse-1
         state = context.getState(getPositions=coarse, getVelocities=True, getEnergy=coarse and on_coarse is not None)
         v = state.getVelocities(asNumpy=True).value_in_unit(unit.nanometer/unit.picosecond)
-        velocities.append((m*v[members]).sum(axis=1)/total)
-        if coarse:
-            x = state.getPositions(asNumpy=True).value_in_unit(unit.nanometer)
-            centers.append(np.einsum('k,bkj->bj', weights, x[nine]))
-            u = x[nine[:, 4]]-x[nine[:, 3]]
-            axes.append(u/np.linalg.norm(u, axis=1, keepdims=True))
-            if on_coarse is not None:
-                on_coarse(state)
-    velocities, centers, axes = np.array(velocities), np.array(centers), np.array(axes)
+        series['velocities'].append((m*v[members]).sum(axis=1)/total)
+        if not coarse:
+            continue
+        x = state.getPositions(asNumpy=True).value_in_unit(unit.nanometer)
+        series['centers'].append(np.einsum('k,bkj->bj', weights, x[nine]))
+        u = x[nine[:, 4]]-x[nine[:, 3]]
+        series['axes'].append(u/np.linalg.norm(u, axis=1, keepdims=True))
+        for name, value in (on_coarse(state) if on_coarse is not None else {}).items():
+            series.setdefault(name, []).append(value)
+        if progress is not None and time.time()-last_save >= CHECKPOINT_SECONDS and sample+1 < samples:
+            progress.save(checkpoint=np.frombuffer(context.createCheckpoint(), dtype=np.uint8), samples_done=sample+1,
+                          sampling_seconds=earlier_seconds+time.time()-start, series_names=np.array(list(series)),
+                          **{'series_'+name: np.array(values) for name, values in series.items()}, **(keep or {}))
+            last_save = time.time()
+    velocities, centers, axes = (np.array(series.pop(name)) for name in ('velocities', 'centers', 'axes'))
     vacf_lags = np.arange(min(len(velocities)//2, int(round(VACF_PS/SAMPLE_PS))+1))
     coarse_lags = np.arange(min(len(centers)//3, int(round(max_lag_ps/COARSE_PS)))+1)
-    return {'vacf': correlation(velocities, vacf_lags), 'msd': displacement(centers, coarse_lags), 'cu': correlation(axes, coarse_lags)}
+    return dict({'vacf': correlation(velocities, vacf_lags), 'msd': displacement(centers, coarse_lags), 'cu': correlation(axes, coarse_lags),
+                 'seconds': earlier_seconds+time.time()-start}, **{name: np.array(values) for name, values in series.items()})
+
+
+def resume(context, progress):
+    """What progress (a RunProgress, or None) saved, the Context restored from its checkpoint; or None."""
+    saved = progress.load() if progress is not None else None
+    if saved is not None:
+        context.loadCheckpoint(saved['checkpoint'].tobytes())
+    return saved
 
 
 def particle_masses(system):
@@ -135,7 +162,7 @@ def explicit_integrator(system, bodies, xi, viscosity_cp):
     return integrator
 
 
-def explicit_replica(settings, box, xi, weights, seed, platform, properties=None):
+def explicit_replica(settings, box, xi, weights, seed, platform, properties=None, progress=None):
     """Two bananas among settings['pentanes'] pentanes in a cubic box (nm), from a lattice: melted
     for melt_ps at 1 cP and equilibrated for equilibration_ps at 0.01 cP under this integrator
     (bananas as bodies with their tensor, pentane sites as free particles with Stokes friction);
@@ -143,14 +170,37 @@ def explicit_replica(settings, box, xi, weights, seed, platform, properties=None
     production_ps, started at the energy whose microcanonical temperature is the bath's:
     E = <U> over the equilibration's second half + (N_f - 3) kT / 2, N_f the integrator's degrees of
     freedom less the total momentum, which is removed (a uniform velocity is a rigid motion,
-    which bodies take exactly). Returns the observables, the temperature and total energy every
-    COARSE_PS, the target energy, and the run's speed."""
+    which bodies take exactly). With progress (a RunProgress), the production saves its progress
+    and a run cut short carries on from it. Returns the observables, the temperature and total
+    energy every COARSE_PS, the target energy, and the run's speed."""
     system, positions, bodies, _ = bm.pentane_box(settings['pentanes'], box, seed, bananas=2)
     integrator = explicit_integrator(system, bodies, xi, MELT_VISCOSITY)
     integrator.setRandomNumberSeed(seed)
     masses = particle_masses(system)
     context = mm.Context(system, integrator, mm.Platform.getPlatformByName(platform), properties or {})
-    context.setPositions(positions)
+    saved = resume(context, progress)
+    if saved is None:
+        context.setPositions(positions)
+    dof = integrator.getNumDegreesOfFreedom()-3
+    if saved is None:
+        target = equilibrated_nve_start(settings, context, integrator, masses, dof, seed)
+    else:
+        integrator.setViscosity(0.0)
+        target = float(saved['target_energy'])
+
+    def record(state):
+        kinetic = state.getKineticEnergy().value_in_unit(unit.kilojoule_per_mole)
+        return {'temperature': 2*kinetic/(dof*bm.BOLTZ), 'energy': kinetic+state.getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole)}
+    result = sample_bananas(context, integrator, bodies, masses, weights, int(round(SAMPLE_PS/EXPLICIT_STEP)),
+                            int(round(settings['production_ps']/SAMPLE_PS)), settings['max_lag_ps'], on_coarse=record,
+                            progress=progress, saved=saved, keep={'target_energy': target})
+    result.update(target_energy=target, degrees_of_freedom=dof)
+    return result
+
+
+def equilibrated_nve_start(settings, context, integrator, masses, dof, seed):
+    """Melt and equilibrate the explicit scene (the Context at its start), then leave it at zero
+    viscosity with the velocities that give the target energy (explicit_replica()); returns it."""
     context.setVelocitiesToTemperature(TEMPERATURE, seed)
     integrator.step(int(round(settings['melt_ps']/EXPLICIT_STEP)))
     integrator.setViscosity(EQUILIBRATION_VISCOSITY*rl.centipoise)
@@ -161,7 +211,6 @@ def explicit_replica(settings, box, xi, weights, seed, platform, properties=None
     for _ in range((steps-steps//2)//every):
         integrator.step(every)
         potential.append(context.getState(getEnergy=True).getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole))
-    dof = integrator.getNumDegreesOfFreedom()-3
     target = float(np.mean(potential))+0.5*dof*KT
     integrator.setViscosity(0.0)
     state = context.getState(getVelocities=True, getEnergy=True)
@@ -172,18 +221,7 @@ def explicit_replica(settings, box, xi, weights, seed, platform, properties=None
     if headroom <= 0:
         raise RuntimeError(f'seed {seed}: the potential energy at the end of the equilibration is above the target total energy')
     context.setVelocities(v*math.sqrt(headroom/kinetic))
-    temperature, energy = [], []
-
-    def record(state):
-        kinetic = state.getKineticEnergy().value_in_unit(unit.kilojoule_per_mole)
-        temperature.append(2*kinetic/(dof*bm.BOLTZ))
-        energy.append(kinetic+state.getPotentialEnergy().value_in_unit(unit.kilojoule_per_mole))
-    start = time.time()
-    result = sample_bananas(context, integrator, bodies, masses, weights, int(round(SAMPLE_PS/EXPLICIT_STEP)),
-                            int(round(settings['production_ps']/SAMPLE_PS)), settings['max_lag_ps'], on_coarse=record)
-    result.update(temperature=np.array(temperature), energy=np.array(energy), target_energy=target, degrees_of_freedom=dof,
-                  seconds=time.time()-start)
-    return result
+    return target
 
 
 def predicted_diffusion(xi, viscosity_poise):
@@ -194,12 +232,13 @@ def predicted_diffusion(xi, viscosity_poise):
     return np.trace(d[:3, :3])/3, (d[4, 4]+d[5, 5])/2
 
 
-def implicit_replica(settings, box, xi, weights, scheme, viscosity_poise, seed, platform, properties=None):
+def implicit_replica(settings, box, xi, weights, scheme, viscosity_poise, seed, platform, properties=None, progress=None):
     """The two bananas alone at viscosity_poise in the scene's box, interacting only with each other:
     under this integrator with their tensor (scheme 'ExactFlow' or 'BAOAB'), or ('LangevinMiddle')
     under OpenMM's LangevinMiddleIntegrator, rigid through constraints (add_constrained_banana())
     with the per-particle friction that gives the tensor's translational diffusion (a per-particle
-    friction cannot also give its rotation). equilibration_ps, then production_ps sampled."""
+    friction cannot also give its rotation). equilibration_ps, then production_ps sampled (with
+    progress, a RunProgress, saving its progress and carrying on from it)."""
     constrained = scheme == 'LangevinMiddle'
     system, positions, bodies, _ = bm.pentane_box(0, box, seed, bananas=2, constrained=constrained)
     if constrained:
@@ -212,11 +251,10 @@ def implicit_replica(settings, box, xi, weights, scheme, viscosity_poise, seed, 
         add_bodies(integrator, bodies, xi)
     integrator.setRandomNumberSeed(seed)
     context = mm.Context(system, integrator, mm.Platform.getPlatformByName(platform), properties or {})
-    context.setPositions(positions)
-    context.setVelocitiesToTemperature(TEMPERATURE, seed)
-    integrator.step(int(round(settings['implicit_equilibration_ps']/IMPLICIT_STEP)))
-    start = time.time()
-    result = sample_bananas(context, integrator, bodies, particle_masses(system), weights, int(round(SAMPLE_PS/IMPLICIT_STEP)),
-                            int(round(settings['implicit_ps']/SAMPLE_PS)), settings['max_lag_ps'])
-    result['seconds'] = time.time()-start
-    return result
+    saved = resume(context, progress)
+    if saved is None:
+        context.setPositions(positions)
+        context.setVelocitiesToTemperature(TEMPERATURE, seed)
+        integrator.step(int(round(settings['implicit_equilibration_ps']/IMPLICIT_STEP)))
+    return sample_bananas(context, integrator, bodies, particle_masses(system), weights, int(round(SAMPLE_PS/IMPLICIT_STEP)),
+                          int(round(settings['implicit_ps']/SAMPLE_PS)), settings['max_lag_ps'], progress=progress, saved=saved)

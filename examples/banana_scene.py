@@ -205,7 +205,8 @@ class Study:
 
     def run_all(self, jobs):
         """For each (stage, total, label, work): the runs of stage up to total, plus --add more;
-        work(index, seed) returns a run's arrays. All the jobs' runs are dealt out to the ranks
+        work(index, seed, progress) returns a run's arrays (progress: the run's RunProgress, where
+        work that can carry on a run cut short keeps it). All the jobs' runs are dealt out to the ranks
         together, in turn. Only stages asked for run. Returns the stages."""
         todo = []
         for stage, total, label, work in jobs:
@@ -220,7 +221,7 @@ class Study:
         for stage, index, label, work in todo[self.rank::self.size]:
             seed = self.seed_base(stage.name)+index
             start = time.time()
-            arrays = work(index, seed)
+            arrays = work(index, seed, stage.progress(index, seed))
             stage.save(index, seed=seed, wall_seconds=time.time()-start, **arrays)
             print(f'  {label}: run {index} (seed {seed}) done in {time.time()-start:.0f} s', flush=True)
         self.barrier()
@@ -244,7 +245,7 @@ class Study:
         s = self.settings
         stage = self.open('density', 'density', neat_model(), lambda: {}, **ps.NPT_SETTINGS)
 
-        def work(index, seed):
+        def work(index, seed, _progress):
             volumes, state = ps.npt_run(s['density_ps'], seed, self.args.platform, self.properties)
             return {'volume': volumes, 'positions': state.getPositions(asNumpy=True).value_in_unit(unit.nanometer),
                     'velocities': state.getVelocities(asNumpy=True).value_in_unit(unit.nanometer/unit.picosecond),
@@ -261,7 +262,7 @@ class Study:
             stage = self.open(viscosity_stage_name(harmonic, speed), 'viscosity', neat_model(), inputs, harmonic=harmonic, speed=speed,
                               **ps.FLOW_SETTINGS)
 
-            def work(index, seed, harmonic=harmonic, speed=speed, box=stage and stage.inputs['box']):
+            def work(index, seed, _progress, harmonic=harmonic, speed=speed, box=stage and stage.inputs['box']):
                 starts = require(density_stage, 'density', 'the viscosity runs').indices()
                 start = density_stage.load(starts[index % len(starts)])
                 return ps.flow_run(scaled_positions(start, box), start['velocities'], box, harmonic, speed, s['viscosity_ps'], seed,
@@ -273,15 +274,15 @@ class Study:
         s = self.settings
         stage = self.open('scene_box', 'scene_box', scene_model(constrained=True), lambda: {}, **ps.NPT_SETTINGS)
         return self.run(stage, s['scene_box_runs'], 'scene NPT',
-                        lambda index, seed: {'volume': runs.scene_box_run(PENTANES, s['scene_box_ps'], seed, self.args.platform, self.properties)})
+                        lambda index, seed, _progress: {'volume': runs.scene_box_run(PENTANES, s['scene_box_ps'], seed, self.args.platform, self.properties)})
 
     def explicit(self, box_stage):
         s = dict(self.settings, pentanes=PENTANES)
         stage = self.open('explicit', 'explicit', scene_model(),
                           lambda: {'box': scene_box_result(require(box_stage, 'scene_box', 'the explicit runs'))['box']},
                           **runs.EXPLICIT_SETTINGS, tensor=tensor_fingerprint(self.xi))
-        return self.run(stage, s['replicas'], 'explicit pentane', lambda index, seed: runs.explicit_replica(
-            s, stage.inputs['box'], self.xi, self.weights, seed, self.args.platform, self.properties))
+        return self.run(stage, s['replicas'], 'explicit pentane', lambda index, seed, progress: runs.explicit_replica(
+            s, stage.inputs['box'], self.xi, self.weights, seed, self.args.platform, self.properties, progress))
 
     def implicit(self, explicit_stage, box_stage):
         """The implicit runs in the explicit runs' box (the bananas meet each other as often), or
@@ -295,9 +296,9 @@ class Study:
             stage = self.open(scheme, 'implicit', model, inputs, scheme=scheme, viscosity=bm.SOURCE_VISCOSITY, tensor=tensor_fingerprint(self.xi),
                               step=runs.IMPLICIT_STEP, sample_ps=runs.SAMPLE_PS)
             jobs.append((stage, s['implicit_replicas'], f'implicit {scheme}',
-                         lambda index, seed, scheme=scheme, stage=stage: runs.implicit_replica(
+                         lambda index, seed, progress, scheme=scheme, stage=stage: runs.implicit_replica(
                              s, stage.inputs['box'], self.xi, self.weights, scheme, bm.SOURCE_VISCOSITY, seed, self.args.platform,
-                             {'Threads': '1'} if self.args.platform == 'CPU' else {})))
+                             {'Threads': '1'} if self.args.platform == 'CPU' else {}, progress)))
         return self.run_all(jobs)
 
 

@@ -8,6 +8,9 @@ taken from an earlier stage when this one began and kept from then on), and its 
 each, numbered in the order they were started; run i is seeded from i, so that a run appended later
 is independent of the earlier ones and a folder filled in parts holds the runs one sitting would
 have made. Reopening a stage with another definition raises StudyMismatch, naming what differs.
+A run under way may keep its progress (stage.progress(index, seed), a hidden file beside the runs)
+so that a run cut short (a session's end, a killed job) resumes where it last saved, not from its
+start; the progress goes when the run is saved.
 
     folder = StudyFolder('results/study')
     stage = folder.stage('density', {'model': system_fingerprint(system), 'ps': 1000}, inputs={})
@@ -37,6 +40,39 @@ def system_fingerprint(system):
 def _plain(value):
     """value as JSON holds it, so that a definition compares equal to itself read back."""
     return json.loads(json.dumps(value, sort_keys=True))
+
+
+class RunProgress:
+    """What a run under way has saved so far (arrays and numbers of the run's choosing: its
+    Context's checkpoint, the series recorded so far), with the seed the run was started with."""
+
+    def __init__(self, path, seed):
+        self.path, self.seed = pathlib.Path(path), int(seed)
+
+    def load(self):
+        """The arrays last saved, or None if the run has saved none. A file that cannot be read, or
+        was saved by a run of another seed, raises StudyMismatch naming it and the fix."""
+        if not self.path.exists():
+            return None
+        try:
+            with np.load(self.path) as data:
+                saved = {k: data[k] for k in data.files}
+        except Exception as error:
+            raise StudyMismatch(f'{self.path} (a run\'s saved progress) cannot be read ({error}); remove it to start that run '
+                                f'again') from error
+        if int(saved.get('progress_seed', -1)) != self.seed:
+            raise StudyMismatch(f'{self.path} holds the progress of a run with seed {saved.get("progress_seed")}, not {self.seed}; '
+                                f'remove it to start that run again')
+        return saved
+
+    def save(self, **arrays):
+        """Keep arrays as the run's progress (written whole or not at all)."""
+        temporary = self.path.with_name(self.path.stem+'.tmp.npz')
+        np.savez_compressed(temporary, progress_seed=self.seed, **arrays)
+        os.replace(temporary, self.path)
+
+    def clear(self):
+        self.path.unlink(missing_ok=True)
 
 
 class Stage:
@@ -85,10 +121,15 @@ class Stage:
         return list(range(first, first+count))
 
     def save(self, index, **arrays):
-        """Write run `index` (numbers and arrays); written whole or not at all."""
+        """Write run `index` (numbers and arrays); written whole or not at all. Its progress goes."""
         temporary = self.path/f'.run_{index:04d}.tmp.npz'
         np.savez_compressed(temporary, **arrays)
         os.replace(temporary, self._file(index))
+        self.progress(index, 0).clear()
+
+    def progress(self, index, seed):
+        """Run `index`'s progress while it is under way (see RunProgress)."""
+        return RunProgress(self.path/f'.progress_{index:04d}.npz', seed)
 
     def load(self, index):
         with np.load(self._file(index)) as data:

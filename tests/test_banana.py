@@ -379,3 +379,66 @@ def test_lennard_jones_tail_against_a_direct_sum():
     for value, expected, err in zip(mean, (shell_energy, shell_pressure), error):
         assert abs(value-expected) < 4*err, (value, expected, err)
         assert 4*err < 0.25*abs(expected)  # a factor of 2 or a sign error would fail
+
+
+class CutShort(Exception):
+    """The stand-in for a session's end in the middle of a run."""
+
+
+@pytest.mark.parametrize('kind', ['explicit', 'ExactFlow', 'LangevinMiddle'])
+def test_replica_cut_short_carries_on_where_it_saved(tmp_path, monkeypatch, kind):
+    # A study's run saves its progress (study_folder.RunProgress) as it goes; cut short (here after
+    # its third save, the saves made at every coarse sample) and started again, it carries on from
+    # its last save and ends with the observables of the run never cut: a sample repeated, lost or
+    # shifted, a checkpoint not restored, or a run started over would differ (the explicit
+    # equilibration is made to fail on the second sitting: a run that starts over fails). One
+    # thread: an uninterrupted run repeats bit for bit; the slack (1e-6 of each observable's
+    # largest value) is the checkpoint's: a restored CPU Context sums its single-precision
+    # nonbonded forces in another order (5e-9 seen after 0.3 ps), where a sample out of place or a
+    # state not restored changes the observables by far more.
+    import banana_runs as runs
+    from study_folder import RunProgress, StudyFolder, StudyMismatch
+    monkeypatch.setattr(runs, 'CHECKPOINT_SECONDS', 0.0)
+    settings = dict(pentanes=320, melt_ps=0.1, equilibration_ps=0.4, production_ps=0.6, implicit_equilibration_ps=0.5, implicit_ps=3.0,
+                    max_lag_ps=0.2)
+    xi = bm.resistance_tensor(maxBeads=500)
+    weights = runs.center_weights(np.array(xi.getCenterOfDiffusion()._value))
+    seed = 11
+
+    def replica(progress):
+        if kind == 'explicit':
+            return runs.explicit_replica(settings, 3.93, xi, weights, seed, 'CPU', {'Threads': '1'}, progress)
+        return runs.implicit_replica(settings, 3.93, xi, weights, kind, bm.SOURCE_VISCOSITY, seed, 'CPU', {'Threads': '1'}, progress)
+
+    class Interrupted(RunProgress):
+        saves = 0
+
+        def save(self, **arrays):
+            super().save(**arrays)
+            Interrupted.saves += 1
+            if Interrupted.saves == 3:
+                raise CutShort
+    whole = replica(None)
+    stage = StudyFolder(tmp_path).stage(kind, {'kind': kind}, inputs={})
+    with pytest.raises(CutShort):
+        replica(Interrupted(stage.progress(0, seed).path, seed))
+    saved = stage.progress(0, seed).load()
+    assert int(saved['samples_done']) == 30  # three coarse samples of ten
+    monkeypatch.setattr(runs, 'equilibrated_nve_start', None)  # a run that started over would call it
+    parts = replica(stage.progress(0, seed))
+    assert set(parts) == set(whole)
+    for name in whole:
+        if name != 'seconds':
+            assert np.shape(parts[name]) == np.shape(whole[name]), name
+            deviation = np.max(np.abs(np.subtract(parts[name], whole[name])))/np.max(np.abs(whole[name]))
+            assert deviation < 1e-6, (name, deviation)
+    stage.save(0, **parts)
+    assert stage.progress(0, seed).load() is None  # a saved run's progress goes
+
+    # Progress that is not this run's, or not readable, is refused, naming the file and the fix.
+    RunProgress(stage.progress(1, seed).path, seed+1).save(samples_done=3)
+    with pytest.raises(StudyMismatch, match='seed 12, not 11; remove it'):
+        stage.progress(1, seed).load()
+    stage.progress(1, seed).path.write_bytes(b'PK\x03\x04 cut off')
+    with pytest.raises(StudyMismatch, match='cannot be read.*remove it'):
+        stage.progress(1, seed).load()
