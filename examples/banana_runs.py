@@ -182,11 +182,8 @@ def explicit_replica(settings, box, xi, weights, seed, platform, properties=None
     if saved is None:
         context.setPositions(positions)
     dof = integrator.getNumDegreesOfFreedom()-3
-    if saved is None:
-        target = equilibrated_nve_start(settings, context, integrator, masses, dof, seed)
-    else:
-        integrator.setViscosity(0.0)
-        target = float(saved['target_energy'])
+    target = equilibrated_nve_start(settings, context, integrator, masses, dof, seed) if saved is None else float(saved['target_energy'])
+    integrator.setViscosity(0.0)  # the production is NVE
 
     def record(state):
         kinetic = state.getKineticEnergy().value_in_unit(unit.kilojoule_per_mole)
