@@ -284,6 +284,30 @@ def gayberne_force(cutoff=None):
     return force
 
 
+# Platforms whose GayBerneForce applies periodic boundary conditions to exceptions. OpenMM's common
+# kernel (OpenCL, CUDA, HIP; platforms/common/src/kernels/gayBerne.cc, 8.x) takes an exception's
+# distance without them, so an exception pair across the box's edge is beyond the cutoff and drops
+# out; the scene's ellipsoid-site pairs are all exceptions (SceneForces.add_to()).
+PERIODIC_GAYBERNE_EXCEPTIONS = ('Reference', 'CPU')
+
+
+def scene_context(system, integrator, platform, properties=None):
+    """A Context for a System of this scene on platform (a name). Refused (OpenMMException, naming
+    the platform and the fix) where the System's periodic GayBerneForce has an exception that
+    interacts and the platform's Gay-Berne kernel would drop it across the box's edge."""
+    if platform not in PERIODIC_GAYBERNE_EXCEPTIONS:
+        for force in system.getForces():
+            if isinstance(force, mm.GayBerneForce) and force.usesPeriodicBoundaryConditions() and any(
+                    force.getExceptionParameters(i)[3] != 0
+                    for i in range(force.getNumExceptions())):
+                raise mm.OpenMMException(
+                    f'this scene cannot run on the {platform} platform: its GayBerneForce gives the ellipsoid-site pairs as exceptions, '
+                    f'and OpenMM\'s {platform} Gay-Berne kernel drops an exception across the periodic box\'s edge (it takes the '
+                    f'distance without periodic boundary conditions). Use --platform CPU (or Reference); the scene without pentanes '
+                    f'(the implicit runs) has no such exceptions and runs anywhere')
+    return mm.Context(system, integrator, mm.Platform.getPlatformByName(platform), properties or {})
+
+
 def resistance_tensor(maxBeads=2000):
     """The banana's resistance per unit viscosity: the rough shell of its three ellipsoids
     extrapolated to zero bead size, in the frame of banana_positions()."""

@@ -97,7 +97,8 @@ def sample_bananas(context, integrator, bodies, masses, weights, steps_per_sampl
         for name, value in (on_coarse(state) if on_coarse is not None else {}).items():
             series.setdefault(name, []).append(value)
         if progress is not None and time.time()-last_save >= CHECKPOINT_SECONDS and sample+1 < samples:
-            progress.save(checkpoint=np.frombuffer(context.createCheckpoint(), dtype=np.uint8), samples_done=sample+1,
+            progress.save(checkpoint=np.frombuffer(context.createCheckpoint(), dtype=np.uint8), platform=context.getPlatform().getName(),
+                          samples_done=sample+1,
                           sampling_seconds=earlier_seconds+time.time()-start, series_names=np.array(list(series)),
                           **{'series_'+name: np.array(values) for name, values in series.items()}, **(keep or {}))
             last_save = time.time()
@@ -109,10 +110,18 @@ def sample_bananas(context, integrator, bodies, masses, weights, steps_per_sampl
 
 
 def resume(context, progress):
-    """What progress (a RunProgress, or None) saved, the Context restored from its checkpoint; or None."""
+    """What progress (a RunProgress, or None) saved, the Context restored from its checkpoint; or
+    None. Progress saved on another platform, whose checkpoint only that platform can load, is
+    left (said, not silently): the run starts over, and its new progress replaces it."""
     saved = progress.load() if progress is not None else None
-    if saved is not None:
-        context.loadCheckpoint(saved['checkpoint'].tobytes())
+    if saved is None:
+        return None
+    here = context.getPlatform().getName()
+    if str(saved['platform']) != here:
+        print(f'{progress.path}: progress saved on {saved["platform"]}, whose checkpoints only that platform loads; this run starts '
+              f'over on {here} (to carry it on instead, run it with --platform {saved["platform"]})', flush=True)
+        return None
+    context.loadCheckpoint(saved['checkpoint'].tobytes())
     return saved
 
 
@@ -137,7 +146,7 @@ def scene_box_run(pentanes, picoseconds, seed, platform, properties=None, sample
     system.addForce(ps.barostat(seed))
     integrator = mm.LangevinMiddleIntegrator(TEMPERATURE, ps.NPT_FRICTION, ps.STEP)
     integrator.setRandomNumberSeed(seed)
-    context = mm.Context(system, integrator, mm.Platform.getPlatformByName(platform), properties or {})
+    context = bm.scene_context(system, integrator, platform, properties)
     context.setPositions(positions)
     mm.LocalEnergyMinimizer.minimize(context, 10.0, 1000)
     context.setVelocitiesToTemperature(TEMPERATURE, seed)
@@ -177,7 +186,7 @@ def explicit_replica(settings, box, xi, weights, seed, platform, properties=None
     integrator = explicit_integrator(system, bodies, xi, MELT_VISCOSITY)
     integrator.setRandomNumberSeed(seed)
     masses = particle_masses(system)
-    context = mm.Context(system, integrator, mm.Platform.getPlatformByName(platform), properties or {})
+    context = bm.scene_context(system, integrator, platform, properties)
     saved = resume(context, progress)
     if saved is None:
         context.setPositions(positions)
@@ -247,7 +256,7 @@ def implicit_replica(settings, box, xi, weights, scheme, viscosity_poise, seed, 
         integrator.setScheme(getattr(rl.RigidLangevinIntegrator, scheme))
         add_bodies(integrator, bodies, xi)
     integrator.setRandomNumberSeed(seed)
-    context = mm.Context(system, integrator, mm.Platform.getPlatformByName(platform), properties or {})
+    context = bm.scene_context(system, integrator, platform, properties)
     saved = resume(context, progress)
     if saved is None:
         context.setPositions(positions)

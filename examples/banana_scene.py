@@ -32,6 +32,12 @@ correlations.csv/.png (velocity and orientational autocorrelations, explicit aga
     python examples/banana_scene.py --stages explicit --add 4  # 4 more explicit replicas
     mpirun --allow-run-as-root --mca mpi_yield_when_idle 1 -np 2 .venv/bin/python examples/banana_scene.py --threads 1
         # runs spread over ranks; a rank left without a run waits without holding its core
+    python examples/banana_scene.py --stages implicit --platform CUDA --part 0/4 --no-report &  # ... to --part 3/4:
+        # the same without MPI (a GPU machine: scripts/gpu/run.sh banana); then --report-only
+        # (the scene with pentanes runs on Reference and CPU only: banana_model.scene_context)
+
+An explicit or implicit replica under way saves its progress (every --save-every seconds); a run
+stopped carries on from there when the study is run again.
 
 Standard errors: of a time series from its statistical inefficiency, of replicas from their
 spread over sqrt(replicas).
@@ -168,14 +174,14 @@ def viscosity_stage_name(harmonic, speed):
 
 
 class Study:
-    """The stages of one study folder, their runs spread over MPI ranks."""
+    """The stages of one study folder, their runs spread over MPI ranks, or over processes started
+    apart with --part I/K (each takes the runs rank I of K would)."""
 
     def __init__(self, args, settings, xi, requested):
         self.args, self.settings, self.xi, self.requested = args, settings, xi, requested
         self.folder = StudyFolder(args.out)
         self.comm = _communicator()
-        self.rank = self.comm.Get_rank() if self.comm is not None else 0
-        self.size = self.comm.Get_size() if self.comm is not None else 1
+        self.rank, self.size = (self.comm.Get_rank(), self.comm.Get_size()) if self.comm is not None else args.part
         self.properties = {'Threads': str(args.threads)} if args.threads and args.platform == 'CPU' else {}
         center = np.array(xi.getCenterOfDiffusion().value_in_unit(unit.nanometer))
         self.weights = runs.center_weights(center)
@@ -186,7 +192,8 @@ class Study:
 
     def open(self, name, kind, model, inputs, **extra):
         """The stage on disk; or, if there is none and this stage is to run, a new one started
-        with inputs() (evaluated on rank 0, shared with the others); else None."""
+        with inputs() (evaluated on rank 0, shared with the others; by every process started apart,
+        alike); else None."""
         d = definition(kind, self.settings, model, **extra)
         exists = self.folder.has(name)
         if self.comm is not None:
@@ -195,7 +202,7 @@ class Study:
             return self.folder.stage(name, d)
         if not self.wanted(kind):
             return None
-        if self.rank == 0:
+        if self.rank == 0 or self.comm is None:
             self.folder.stage(name, d, inputs())
         self.barrier()
         return self.folder.stage(name, d)
@@ -207,7 +214,9 @@ class Study:
         """For each (stage, total, label, work): the runs of stage up to total, plus --add more;
         work(index, seed, progress) returns a run's arrays (progress: the run's RunProgress, where
         work that can carry on a run cut short keeps it). All the jobs' runs are dealt out to the ranks
-        together, in turn. Only stages asked for run. Returns the stages."""
+        together, in turn; processes started apart (--part), which share no moment at which they
+        all look at the disk, take each run by its stage and index alone. Only stages asked for
+        run. Returns the stages."""
         todo = []
         for stage, total, label, work in jobs:
             if stage is None or not self.wanted(self.kind(stage.name)):
@@ -218,11 +227,15 @@ class Study:
             if self.rank == 0 and indices:
                 print(f'{label}: {len(indices)} run(s) to do ({self.size} rank(s))', flush=True)
             todo += [(stage, index, label, work) for index in indices]
-        for stage, index, label, work in todo[self.rank::self.size]:
+        if self.comm is None:
+            todo = [job for job in todo if (zlib.crc32(job[0].name.encode())+job[1]) % self.size == self.rank]
+        else:
+            todo = todo[self.rank::self.size]
+        for stage, index, label, work in todo:
             seed = self.seed_base(stage.name)+index
             start = time.time()
             arrays = work(index, seed, stage.progress(index, seed))
-            stage.save(index, seed=seed, wall_seconds=time.time()-start, **arrays)
+            stage.save(index, seed=seed, wall_seconds=time.time()-start, platform=self.args.platform, **arrays)
             print(f'  {label}: run {index} (seed {seed}) done in {time.time()-start:.0f} s', flush=True)
         self.barrier()
         return [job[0] for job in jobs]
@@ -493,6 +506,14 @@ def solvent_report(out, settings, density_stage, viscosity_stages, viscosities):
     return eta0, eta0_error
 
 
+def platform_counts(stages):
+    """'explicit: CPU 8; ExactFlow: CPU 6, CUDA 2; ...' (runs saved before platforms were kept ran on the CPU)."""
+    def count(stage):
+        platforms = [str(run['platform']) if 'platform' in run else 'CPU' for _, run in stage.runs()]
+        return ', '.join(f'{p} {platforms.count(p)}' for p in sorted(set(platforms)))
+    return '; '.join(f'{stage.name}: {count(stage)}' for stage in stages)
+
+
 def banana_report(out, settings, xi, eta0, eta0_error, box_stage, explicit_stage, implicit_stages):
     """diffusion.md/.csv and correlations.csv/.png."""
     import matplotlib.pyplot as plt
@@ -537,7 +558,8 @@ def banana_report(out, settings, xi, eta0, eta0_error, box_stage, explicit_stage
              f'{settings["production_ps"]:g} ps of NVE at the total energy of 273.15 K. Their mean temperature {t_mean:.2f} ± {t_err:.2f} K; '
              f'energy drift {drift:+.4f} ± {drift_err:.4f} kJ/mol/ns per molecule. D_t from the mean-square displacement of the '
              f'centres of diffusion and D_r from <u(0).u(t)> = exp(-2 D_r t), both fitted over lags of {window[0]:g}-{window[1]:g} ps. '
-             f'Finite-size correction of D_t +{finite_size*CM2_S:.3f} 1e-5 cm^2/s (Yeh-Hummer, with the model\'s own viscosity).', '',
+             f'Finite-size correction of D_t +{finite_size*CM2_S:.3f} 1e-5 cm^2/s (Yeh-Hummer, with the model\'s own viscosity). '
+             f'Runs by platform: {platform_counts([explicit_stage]+list(implicit_stages))}.', '',
              '| run | replicas | D_t (1e-5 cm^2/s) | D_r across the middle axis (1/ns) | ns/day (median replica) |', '|---|---|---|---|---|']
     for row in rows:
         lines.append(f"| {row['run']} | {row['replicas']} | {row['D_t (1e-5 cm^2/s)']:.3f} ± {row['D_t error']:.3f} "
@@ -574,6 +596,17 @@ def banana_report(out, settings, xi, eta0, eta0_error, box_stage, explicit_stage
     plt.close(fig)
 
 
+def part(text):
+    """--part's I/K as (I, K), 0 <= I < K."""
+    try:
+        index, count = (int(v) for v in text.split('/'))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f'{text!r} is not I/K (two integers, such as 0/4)')
+    if not 0 <= index < count:
+        raise argparse.ArgumentTypeError(f'{text}: I must be 0 to K-1')
+    return index, count
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--quick', action='store_true', help='every stage, short (minutes)')
@@ -584,9 +617,17 @@ def main(argv=None):
     parser.add_argument('--add', type=int, default=0, help='runs to add to each stage named by --stages beyond those the settings ask for')
     parser.add_argument('--platform', default='CPU')
     parser.add_argument('--threads', type=int, help='threads per rank on the CPU platform (default: all cores)')
+    parser.add_argument('--part', type=part, default=(0, 1), metavar='I/K',
+                        help='without MPI: take the runs that rank I of K would (start K processes, I = 0..K-1, on one folder)')
+    parser.add_argument('--save-every', type=float, default=runs.CHECKPOINT_SECONDS, metavar='SECONDS',
+                        help='how often (wall clock) a replica under way saves its progress (default %(default)g)')
+    parser.add_argument('--no-report', action='store_true', help='run only; write the tables later with --report-only')
     parser.add_argument('--ps-scale', type=float, default=1.0, help='scale every run length by this (for tests)')
     parser.add_argument('--report-only', action='store_true', help='write the tables and plots from the runs on disk, run nothing')
     args = parser.parse_args(argv)
+    runs.CHECKPOINT_SECONDS = args.save_every
+    if args.part[1] > 1 and args.add:
+        parser.error('--add with --part: the parts would each count the runs on disk at another time; set the total with --replicas')
     settings = dict(SETTINGS['quick' if args.quick else 'full'])
     for key in settings:
         if key.endswith('_ps') and not isinstance(settings[key], tuple):
@@ -613,7 +654,7 @@ def main(argv=None):
         implicit = study.implicit(explicit, box)
     except (StudyMismatch, MissingRuns) as error:
         sys.exit(f'banana_scene.py: {error}')
-    if study.rank == 0:
+    if study.rank == 0 and not args.no_report:
         for name in write_report(out, settings, xi, density, viscosity, box, explicit, implicit):
             print((out/name).read_text(), flush=True)
         print(f'total {time.time()-started:.0f} s', flush=True)

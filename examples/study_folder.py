@@ -97,7 +97,7 @@ class Stage:
                 raise ValueError(f'stage {name} does not exist yet in {self.path.parent} and has no inputs to start from')
             self.path.mkdir(parents=True, exist_ok=True)
             self.inputs = _plain(inputs)
-            temporary = manifest.with_suffix('.tmp')
+            temporary = manifest.with_suffix(f'.{os.getpid()}.tmp')  # processes started apart may start a stage together
             temporary.write_text(json.dumps({'name': name, 'definition': definition, 'inputs': self.inputs}, indent=1, sort_keys=True))
             os.replace(temporary, manifest)
         self.definition = definition

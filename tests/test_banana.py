@@ -385,6 +385,10 @@ class CutShort(Exception):
     """The stand-in for a session's end in the middle of a run."""
 
 
+class StartedOver(Exception):
+    """A run that was to carry on from its progress started over."""
+
+
 @pytest.mark.parametrize('kind', ['explicit', 'ExactFlow', 'LangevinMiddle'])
 def test_replica_cut_short_carries_on_where_it_saved(tmp_path, monkeypatch, kind):
     # A study's run saves its progress (study_folder.RunProgress) as it goes; cut short (here after
@@ -395,7 +399,8 @@ def test_replica_cut_short_carries_on_where_it_saved(tmp_path, monkeypatch, kind
     # thread: an uninterrupted run repeats bit for bit; the slack (1e-6 of each observable's
     # largest value) is the checkpoint's: a restored CPU Context sums its single-precision
     # nonbonded forces in another order (5e-9 seen after 0.3 ps), where a sample out of place or a
-    # state not restored changes the observables by far more.
+    # state not restored changes the observables by far more. Progress saved on another platform
+    # (a GPU's, whose checkpoint the CPU cannot load) makes the run start over.
     import banana_runs as runs
     from study_folder import RunProgress, StudyFolder, StudyMismatch
     monkeypatch.setattr(runs, 'CHECKPOINT_SECONDS', 0.0)
@@ -424,7 +429,9 @@ def test_replica_cut_short_carries_on_where_it_saved(tmp_path, monkeypatch, kind
         replica(Interrupted(stage.progress(0, seed).path, seed))
     saved = stage.progress(0, seed).load()
     assert int(saved['samples_done']) == 30  # three coarse samples of ten
-    monkeypatch.setattr(runs, 'equilibrated_nve_start', None)  # a run that started over would call it
+    def started_over(*args):
+        raise StartedOver
+    monkeypatch.setattr(runs, 'equilibrated_nve_start', started_over)  # a run that started over would call it
     parts = replica(stage.progress(0, seed))
     assert set(parts) == set(whole)
     for name in whole:
@@ -432,6 +439,12 @@ def test_replica_cut_short_carries_on_where_it_saved(tmp_path, monkeypatch, kind
             assert np.shape(parts[name]) == np.shape(whole[name]), name
             deviation = np.max(np.abs(np.subtract(parts[name], whole[name])))/np.max(np.abs(whole[name]))
             assert deviation < 1e-6, (name, deviation)
+    if kind == 'explicit':  # progress from another platform (whose checkpoint this one cannot load): the run starts over
+        foreign = dict(saved, platform='CUDA')
+        del foreign['progress_seed']
+        stage.progress(0, seed).save(**foreign)
+        with pytest.raises(StartedOver):
+            replica(stage.progress(0, seed))
     stage.save(0, **parts)
     assert stage.progress(0, seed).load() is None  # a saved run's progress goes
 
@@ -442,3 +455,60 @@ def test_replica_cut_short_carries_on_where_it_saved(tmp_path, monkeypatch, kind
     stage.progress(1, seed).path.write_bytes(b'PK\x03\x04 cut off')
     with pytest.raises(StudyMismatch, match='cannot be read.*remove it'):
         stage.progress(1, seed).load()
+
+
+def _gpu_platforms():
+    from conftest import available_platforms
+    return [name for name in available_platforms() if name not in bm.PERIODIC_GAYBERNE_EXCEPTIONS]
+
+
+def _energy(system, positions, name):
+    # Single precision where the platform has it: PoCL aborts in double on the scene's GayBerneForce.
+    properties = {'Precision': 'single'} if name not in bm.PERIODIC_GAYBERNE_EXCEPTIONS else {}
+    context = bm.scene_context(system, mm.VerletIntegrator(0.001), name, properties)
+    context.setPositions(positions)
+    return context.getState(getEnergy=True).getPotentialEnergy().value_in_unit(mm.unit.kilojoule_per_mole)
+
+
+@pytest.mark.parametrize('name', _gpu_platforms())
+def test_gayberne_exceptions_across_the_box_edge_drop_out_on_gpu_platforms(name):
+    # Why scene_context() refuses these platforms for the scene with pentanes: two spheres 0.4 nm
+    # apart across the edge of a 4 nm box, interacting only through a GayBerneForce exception. The
+    # CPU platform gives their Lennard-Jones energy; OpenMM's common kernel takes the exception's
+    # distance as 3.6 nm, beyond the cutoff, and gives none. When OpenMM makes that kernel periodic
+    # this test fails: then let scene_context() take the platform.
+    system = mm.System()
+    system.setDefaultPeriodicBoxVectors(mm.Vec3(4, 0, 0), mm.Vec3(0, 4, 0), mm.Vec3(0, 0, 4))
+    force = bm.gayberne_force(1.4)
+    for _ in range(2):
+        system.addParticle(10.0)
+        force.addParticle(0.35, 0.0, -1, -1, 0.35, 0.35, 0.35, 1.0, 1.0, 1.0)
+    force.addException(0, 1, 0.35, 1.0)
+    system.addForce(force)
+    positions = [mm.Vec3(0.2, 1, 1), mm.Vec3(3.8, 1, 1)]
+    expected = lennard_jones_pair(0.35, 1.0, 0.4)  # a Gay-Berne sphere of semi-axes sigma is Lennard-Jones
+    assert _energy(system, positions, 'CPU') == pytest.approx(expected, rel=1e-6)
+    context = mm.Context(system, mm.VerletIntegrator(0.001), mm.Platform.getPlatformByName(name), {'Precision': 'single'})
+    context.setPositions(positions)
+    assert context.getState(getEnergy=True).getPotentialEnergy().value_in_unit(mm.unit.kilojoule_per_mole) == 0.0
+
+
+@pytest.mark.parametrize('name', _gpu_platforms())
+def test_scene_with_pentanes_is_refused_on_gpu_platforms_and_bananas_alone_agree(name):
+    # The scene with pentanes (the explicit runs, the scene's box) is refused there, naming the
+    # platform and the fix; the bananas alone (the implicit runs: no exception interacts) give the
+    # CPU platform's energy, the second banana straddling the box's edge.
+    import banana_runs as runs
+    system, positions, _, _ = bm.pentane_box(40, 4.0, 3, bananas=2)
+    with pytest.raises(mm.OpenMMException, match=f'cannot run on the {name} platform.*--platform CPU'):
+        bm.scene_context(system, mm.VerletIntegrator(0.001), name)
+    with pytest.raises(mm.OpenMMException, match=f'cannot run on the {name} platform'):
+        runs.scene_box_run(320, 0.01, 3, name)
+    system, positions, _, _ = bm.pentane_box(0, 4.0, 3, bananas=2)
+    positions = np.array(positions)
+    positions[0:9, 2] += 0.2-positions[0:9, 2].mean()
+    positions[9:18] = positions[0:9]+np.array([0.0, 0.0, 4.0-0.5])  # 0.5 nm below the first, across z = 0
+    positions = [mm.Vec3(*p) for p in positions]
+    cpu = _energy(system, positions, 'CPU')
+    assert abs(cpu) > 1.0  # the bananas interact
+    assert _energy(system, positions, name) == pytest.approx(cpu, rel=1e-5)

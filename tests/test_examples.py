@@ -1,6 +1,7 @@
 """The examples stay runnable: each is run briefly."""
 import csv
 import pathlib
+import shutil
 import subprocess
 import sys
 
@@ -89,7 +90,7 @@ def test_banana_scene_short_form_and_appending(tmp_path):
     # explicit ones (the point of implicit solvent). Then the study in parts: one replica of each
     # run, then one more appended, gives the tables of both run at once (replica i is seeded from i;
     # one thread, so each run repeats bit for bit); and a folder made with other settings is
-    # refused, naming them, rather than mixed.
+    # refused, naming them, rather than mixed. And the study run by processes started apart.
     scene = [sys.executable, str(ROOT/'examples'/'banana_scene.py'), '--quick', '--ps-scale', '0.1', '--threads', '1']
 
     def run(*extra):
@@ -119,6 +120,23 @@ def test_banana_scene_short_form_and_appending(tmp_path):
     assert without_speed(parts) == without_speed(whole)
     for name in ('pentane.md', 'correlations.csv'):
         assert (parts/name).read_text() == (whole/name).read_text(), name
+
+    # The explicit and implicit stages run by two processes started apart (--part, as on a machine
+    # without MPI), on a folder holding only the earlier stages' runs: the same tables again, each
+    # run once (a run taken by both parts, or by neither, would change the replica count).
+    split = tmp_path/'split'
+    for name in ('density', 'scene_box') + tuple(p.name for p in (whole/'runs').glob('viscosity_*')):
+        shutil.copytree(whole/'runs'/name, split/'runs'/name)
+    both = [subprocess.Popen(scene+['--out', str(split), '--stages', 'explicit,implicit', '--part', f'{i}/2', '--no-report'],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) for i in range(2)]
+    for process in both:
+        _, error = process.communicate(timeout=900)
+        assert process.returncode == 0, error
+    assert not (split/'diffusion.csv').exists()
+    result = run('--out', str(split), '--report-only')
+    assert result.returncode == 0, result.stderr
+    assert without_speed(split) == without_speed(whole)
+    assert (split/'correlations.csv').read_text() == (whole/'correlations.csv').read_text()
 
     result = run('--out', str(parts), '--ps-scale', '0.2')
     assert result.returncode != 0

@@ -7,9 +7,16 @@
 #          again with RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER=krylov), 8 at a time; pytest -k CUDA
 #   bench  benchmarks/platforms/hydrodynamic_interactions.py on CUDA (bodies of 1-12 blobs)
 #   large  the same, single spheres, 10^3 to 10^5
+#   banana the banana study's missing implicit replicas on CUDA (8 processes sharing the GPU) and
+#          explicit ones on the CPU platform (8 more, one core each: OpenMM's CUDA Gay-Berne kernel
+#          drops the scene's exceptions across the box's edge, banana_model.scene_context), for
+#          BANANA_SECONDS (default 480), saving progress every minute; brings back
+#          $OUT/banana_runs.tar.gz.NN: finished runs and the explicit runs' progress (CPU checkpoints,
+#          carried on here; the implicit runs' progress, 24 MB a run, stays behind). Here, unpack with
+#          cat banana_runs.tar.gz.* | tar xz -C examples/results/banana_scene
 # A 2026-11-28 H200 took 220 s for tests (without the split), 90 s for bench, and 170 s reached 3e4 in large.
 #
-#   bash scripts/gpu/run.sh [tests] [bench] [large]
+#   bash scripts/gpu/run.sh [tests] [bench] [large] [banana]
 set -u
 R="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 G="$R/.gpu"; O="${OUT:-/tmp/out}"; mkdir -p "$O"
@@ -80,5 +87,23 @@ if [[ " $PHASES " == *" large "* ]]; then
     timeout 200 $PY hydrodynamic_interactions.py --platform CUDA --large --max-dense-blobs 0 --sizes 1000 10000 30000 100000 \
         --name $TAG/hydrodynamic_interactions_large
     cp results/$TAG/hydrodynamic_interactions_large.* "$O/" 2>/dev/null
+fi
+if [[ " $PHASES " == *" banana "* ]]; then
+    cd "$R"; S=examples/results/banana_scene; B="${BANANA_SECONDS:-480}"; start=$(date +%s); PIDS=""
+    (cd $S && find runs -name 'run_*.npz' | sort) > /tmp/banana_before
+    for i in 0 1 2 3 4 5 6 7; do
+        timeout "$B" $PY examples/banana_scene.py --threads 1 --stages explicit --part $i/8 --save-every 60 --no-report \
+            > "/tmp/banana_explicit_$i.log" 2>&1 &
+        PIDS="$PIDS $!"
+        timeout "$B" $PY examples/banana_scene.py --platform CUDA --stages implicit --part $i/8 --save-every 60 --no-report \
+            > "/tmp/banana_implicit_$i.log" 2>&1 &
+        PIDS="$PIDS $!"
+    done
+    wait $PIDS
+    echo "banana took $(( $(date +%s)-start )) s"; tail -n 3 /tmp/banana_*.log
+    # New runs, the stages' manifests and the explicit runs' progress.
+    (cd $S && { find runs -name 'run_*.npz' | sort | comm -13 /tmp/banana_before -; find runs -name stage.json;
+                find runs/explicit -name '.progress_*.npz'; }) | tar czf - -C $S -T - | split -b 15M -d - "$O/banana_runs.tar.gz."
+    (cd /tmp && tar czf "$O/banana_logs.tar.gz" banana_*.log)
 fi
 date
