@@ -67,9 +67,9 @@ def sample_bananas(context, integrator, bodies, masses, weights, steps_per_sampl
     and every COARSE_PS the centre of diffusion (weights on the first nine particles of each banana)
     and the middle ellipsoid's axis, to lags of max_lag_ps at most. on_coarse(state), called at
     each coarse sample, returns numbers to record there (a series of each comes back). With
-    progress (a study folder's RunProgress), every CHECKPOINT_SECONDS of wall time, at a coarse
-    sample, the Context's checkpoint, the series so far and keep (the caller's numbers) are saved
-    there; saved (what progress.load() gave, the Context already restored from its 'checkpoint')
+    progress (a study folder's RunProgress), at the start and every CHECKPOINT_SECONDS of wall time
+    at a coarse sample, the Context's checkpoint, the series so far and keep (the caller's numbers)
+    are saved there; saved (what progress.load() gave, the Context already restored from its 'checkpoint')
     carries the run on from there. Returns the observables (see the module's text), the series of
     on_coarse's numbers, and the sampling's wall-clock seconds (over every sitting)."""
     members = np.array(bodies)
@@ -83,6 +83,13 @@ def sample_bananas(context, integrator, bodies, masses, weights, steps_per_sampl
         first, earlier_seconds = int(saved['samples_done']), float(saved['sampling_seconds'])
         series = {name: list(saved['series_'+name]) for name in saved['series_names']}
     start = last_save = time.time()
+
+    def save(done):
+        progress.save(checkpoint=np.frombuffer(context.createCheckpoint(), dtype=np.uint8), platform=context.getPlatform().getName(),
+                      samples_done=done, sampling_seconds=earlier_seconds+time.time()-start, series_names=np.array(list(series)),
+                      **{'series_'+name: np.array(values) for name, values in series.items()}, **(keep or {}))
+    if progress is not None and saved is None:
+        save(0)  # the equilibration before this is a run's longest stretch without a save
     for sample in range(first, samples):
         integrator.step(steps_per_sample)
         coarse = sample % per_coarse == per_coarse-1
@@ -98,10 +105,7 @@ def sample_bananas(context, integrator, bodies, masses, weights, steps_per_sampl
         for name, value in (on_coarse(state) if on_coarse is not None else {}).items():
             series.setdefault(name, []).append(value)
         if progress is not None and time.time()-last_save >= CHECKPOINT_SECONDS and sample+1 < samples:
-            progress.save(checkpoint=np.frombuffer(context.createCheckpoint(), dtype=np.uint8), platform=context.getPlatform().getName(),
-                          samples_done=sample+1,
-                          sampling_seconds=earlier_seconds+time.time()-start, series_names=np.array(list(series)),
-                          **{'series_'+name: np.array(values) for name, values in series.items()}, **(keep or {}))
+            save(sample+1)
             last_save = time.time()
     velocities, centers, axes = (np.array(series.pop(name)) for name in ('velocities', 'centers', 'axes'))
     vacf_lags = np.arange(min(len(velocities)//2, int(round(VACF_PS/SAMPLE_PS))+1))

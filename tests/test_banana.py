@@ -389,10 +389,12 @@ class StartedOver(Exception):
     """A run that was to carry on from its progress started over."""
 
 
+@pytest.mark.parametrize('cut', [1, 3])
 @pytest.mark.parametrize('kind', ['explicit', 'ExactFlow', 'LangevinMiddle'])
-def test_replica_cut_short_carries_on_where_it_saved(tmp_path, monkeypatch, kind):
+def test_replica_cut_short_carries_on_where_it_saved(tmp_path, monkeypatch, kind, cut):
     # A study's run saves its progress (study_folder.RunProgress) as it goes; cut short (here after
-    # its third save, the saves made at every coarse sample) and started again, it carries on from
+    # its first save, made when sampling starts, or its third, the saves made at every coarse
+    # sample) and started again, it carries on from
     # its last save and ends with the observables of the run never cut: a sample repeated, lost or
     # shifted, a checkpoint not restored, or a run started over would differ (the explicit
     # equilibration is made to fail on the second sitting: a run that starts over fails). One
@@ -421,14 +423,14 @@ def test_replica_cut_short_carries_on_where_it_saved(tmp_path, monkeypatch, kind
         def save(self, **arrays):
             super().save(**arrays)
             Interrupted.saves += 1
-            if Interrupted.saves == 3:
+            if Interrupted.saves == cut:
                 raise CutShort
     whole = replica(None)
     stage = StudyFolder(tmp_path).stage(kind, {'kind': kind}, inputs={})
     with pytest.raises(CutShort):
         replica(Interrupted(stage.progress(0, seed).path, seed))
     saved = stage.progress(0, seed).load()
-    assert int(saved['samples_done']) == 30  # three coarse samples of ten
+    assert int(saved['samples_done']) == 10*(cut-1)  # at the start, then after each coarse sample of ten
     def started_over(*args):
         raise StartedOver
     monkeypatch.setattr(runs, 'equilibrated_nve_start', started_over)  # a run that started over would call it
