@@ -394,10 +394,10 @@ class StartedOver(Exception):
 def test_replica_cut_short_carries_on_where_it_saved(tmp_path, monkeypatch, kind, cut):
     # A study's run saves its progress (study_folder.RunProgress) as it goes; cut short (here after
     # its first save, made when sampling starts, or its third, the saves made at every coarse
-    # sample) and started again, it carries on from
-    # its last save and ends with the observables of the run never cut: a sample repeated, lost or
-    # shifted, a checkpoint not restored, or a run started over would differ (the explicit
-    # equilibration is made to fail on the second sitting: a run that starts over fails). One
+    # sample) and started again, it carries on from its last save and ends with the observables of
+    # the run never cut: a sample repeated, lost or shifted, or a checkpoint not restored would
+    # differ (the explicit equilibration is made to fail on the second sitting: a run that starts
+    # over fails; an implicit run that started over would repeat the whole run and pass). One
     # thread: an uninterrupted run repeats bit for bit; the slack (1e-6 of each observable's
     # largest value) is the checkpoint's: a restored CPU Context sums its single-precision
     # nonbonded forces in another order (5e-9 seen after 0.3 ps), where a sample out of place or a
