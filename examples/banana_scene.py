@@ -70,6 +70,10 @@ CM2_S = 1e3  # nm^2/ps in 1e-5 cm^2/s
 PENTANES = ps.PENTANES
 CANONICAL_BOX = 4.0  # nm: the box of the Systems whose fingerprints identify the model
 IMPLICIT_SCHEMES = ('ExactFlow', 'BAOAB', 'LangevinMiddle')
+# The relative standard errors of D_t and D_r the full study is to reach (the explicit one's D_t
+# finite-size corrected); the report says which are reached and how many replicas the spread so
+# far asks for.
+TARGET_ERRORS = {'explicit': 0.05, 'implicit': 0.03}
 # Flow speeds at harmonics 1, 2, 3 of the box, two series of equal shear rates k V (n V = 0.05 and
 # 0.025 nm/ps): each series extrapolates to k = 0 on its own, and the lower rate's stands for the
 # Newtonian viscosity (pentane_solvent.newtonian_rate), the two together showing shear thinning.
@@ -514,6 +518,27 @@ def platform_counts(stages):
     return '; '.join(f'{stage.name}: {count(stage)}' for stage in stages)
 
 
+def target_errors(rows):
+    """The sentence that says, for each run of the diffusion table (rows as in diffusion.csv; the
+    explicit one by its finite-size corrected D_t), whether its relative standard errors reach
+    TARGET_ERRORS, and for those that do not, the replicas that the spread so far asks for (the
+    error falls as one over the square root of the count)."""
+    short = []
+    for row in rows:
+        if row['run'] == 'explicit':
+            continue
+        kind = 'explicit' if row['run'].startswith('explicit') else 'implicit'
+        for quantity in ('D_t', 'D_r'):
+            relative = row[f'{quantity} error']/row[[k for k in row if k.startswith(quantity+' (')][0]]
+            if not relative <= TARGET_ERRORS[kind]:
+                needed = math.ceil(row['replicas']*(relative/TARGET_ERRORS[kind])**2) if math.isfinite(relative) else 2
+                short.append(f'{row["run"].split(",")[0]} {quantity} {100*relative:.1f}% (about {needed} replicas at this spread)')
+    reached = (f'Relative standard errors to reach: {100*TARGET_ERRORS["explicit"]:g}% explicit (D_t finite-size corrected), '
+               f'{100*TARGET_ERRORS["implicit"]:g}% implicit. ')
+    return reached+('Every one reached.' if not short else 'Not reached: '+'; '.join(short)+
+                    '. More replicas: --stages explicit (or implicit) --add N.')
+
+
 def banana_report(out, settings, xi, eta0, eta0_error, box_stage, explicit_stage, implicit_stages):
     """diffusion.md/.csv and correlations.csv/.png."""
     import matplotlib.pyplot as plt
@@ -566,6 +591,13 @@ def banana_report(out, settings, xi, eta0, eta0_error, box_stage, explicit_stage
                      f"({100*row['D_t error']/row['D_t (1e-5 cm^2/s)']:.1f}%) | {row['D_r (1/ns)']:.3f} ± {row['D_r error']:.3f} "
                      f"({100*row['D_r error']/row['D_r (1/ns)']:.1f}%) | {row['ns/day']:.1f} |")
     lines += [f'| the tensor at 0.289 cP (exact, long time) | | {predicted_t*CM2_S:.3f} | {predicted_r*1e3:.3f} | |', '',
+              target_errors(rows), '',
+              'Explicit replicas one by one (D_t of the periodic box, uncorrected):', '',
+              '| replica | seed | mean temperature (K) | energy drift (kJ/mol/ns per molecule) | D_t (1e-5 cm^2/s) | D_r (1/ns) |',
+              '|---|---|---|---|---|---|']
+    lines += [f'| {index} | {int(run["seed"])} | {temperature:.2f} | {d:+.4f} | {t*CM2_S:.3f} | {r*1e3:.3f} |'
+              for (index, run), temperature, d, t, r in zip(explicit_stage.runs(), temperatures, drifts, *replica_constants(explicit_stage, window))]
+    lines += ['',
               'Viscosity at which the implicit model reproduces the explicit diffusion (D scales as 1/eta):', '',
               f'- translational: {eta_t:.4f} ± {eta_t*d_t_err/d_t:.4f} cP (from the periodic box\'s D_t without the correction: '
               f'{eta_t*d_t/d_t_box:.4f} ± {eta_t*d_t/d_t_box*d_t_box_err/d_t_box:.4f} cP)',
