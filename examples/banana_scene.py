@@ -551,6 +551,8 @@ def banana_report(out, settings, xi, eta0, eta0_error, box_stage, explicit_stage
     constants = {}
     for name, stage in [('explicit', explicit_stage)]+list(zip(IMPLICIT_SCHEMES, implicit_stages)):
         d_t, d_r = replica_constants(stage, window)
+        if name == 'explicit':
+            explicit_replicas = (d_t, d_r)
         constants[name] = (mean_error(d_t), mean_error(d_r))
         speed = [(settings['production_ps'] if name == 'explicit' else settings['implicit_ps'])*1e-3/float(run['seconds'])*86400
                  for _, run in stage.runs()]
@@ -596,7 +598,7 @@ def banana_report(out, settings, xi, eta0, eta0_error, box_stage, explicit_stage
               '| replica | seed | mean temperature (K) | energy drift (kJ/mol/ns per molecule) | D_t (1e-5 cm^2/s) | D_r (1/ns) |',
               '|---|---|---|---|---|---|']
     lines += [f'| {index} | {int(run["seed"])} | {temperature:.2f} | {d:+.4f} | {t*CM2_S:.3f} | {r*1e3:.3f} |'
-              for (index, run), temperature, d, t, r in zip(explicit_stage.runs(), temperatures, drifts, *replica_constants(explicit_stage, window))]
+              for (index, run), temperature, d, t, r in zip(explicit_stage.runs(), temperatures, drifts, *explicit_replicas)]
     lines += ['',
               'Viscosity at which the implicit model reproduces the explicit diffusion (D scales as 1/eta):', '',
               f'- translational: {eta_t:.4f} ± {eta_t*d_t_err/d_t:.4f} cP (from the periodic box\'s D_t without the correction: '
