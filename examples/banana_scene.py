@@ -397,6 +397,15 @@ def replica_constants(stage, window):
     return np.array(d_t), np.array(d_r)
 
 
+def jackknife_error(statistic, *samples):
+    """The standard error of statistic(*samples) by the delete-one jackknife over the samples'
+    common index (the replicas): for a statistic of several quantities of the same replicas, whose
+    correlation the errors of each alone leave out."""
+    n = len(samples[0])
+    left_out = np.array([statistic(*(np.delete(s, i) for s in samples)) for i in range(n)])
+    return math.sqrt((n-1)/n*np.sum((left_out-left_out.mean())**2))
+
+
 def mean_error(values):
     values = np.asarray(values, dtype=float)
     return float(values.mean()), float(values.std(ddof=1)/math.sqrt(len(values))) if len(values) > 1 else float('nan')
@@ -528,8 +537,8 @@ def target_errors(rows):
         if row['run'] == 'explicit':
             continue
         kind = 'explicit' if row['run'].startswith('explicit') else 'implicit'
-        for quantity in ('D_t', 'D_r'):
-            relative = row[f'{quantity} error']/row[[k for k in row if k.startswith(quantity+' (')][0]]
+        for quantity, column in (('D_t', 'D_t (1e-5 cm^2/s)'), ('D_r', 'D_r (1/ns)')):
+            relative = row[f'{quantity} error']/row[column]
             if not relative <= TARGET_ERRORS[kind]:
                 needed = math.ceil(row['replicas']*(relative/TARGET_ERRORS[kind])**2) if math.isfinite(relative) else 2
                 short.append(f'{row["run"].split(",")[0]} {quantity} {100*relative:.1f}% (about {needed} replicas at this spread)')
@@ -573,6 +582,9 @@ def banana_report(out, settings, xi, eta0, eta0_error, box_stage, explicit_stage
     # Long-time diffusion under this integrator is kT (eta Xi)^-1 whatever the mass, so D scales as
     # 1/eta: the viscosity at which the implicit model diffuses as the explicit bananas do.
     eta_t, eta_r = bm.SOURCE_VISCOSITY*predicted_t/d_t*100, bm.SOURCE_VISCOSITY*predicted_r/d_r*100  # cP
+
+    def rotation_less_translation(d_t_box, d_r):  # cP, from the explicit replicas' constants
+        return bm.SOURCE_VISCOSITY*(predicted_r/d_r.mean()-predicted_t/(d_t_box.mean()+finite_size))*100
     explicit_runs = [run for _, run in explicit_stage.runs()]
     temperatures = [float(np.mean(run['temperature'])) for run in explicit_runs]
     t_mean, t_err = mean_error(temperatures)
@@ -604,6 +616,8 @@ def banana_report(out, settings, xi, eta0, eta0_error, box_stage, explicit_stage
               f'- translational: {eta_t:.4f} ± {eta_t*d_t_err/d_t:.4f} cP (from the periodic box\'s D_t without the correction: '
               f'{eta_t*d_t/d_t_box:.4f} ± {eta_t*d_t/d_t_box*d_t_box_err/d_t_box:.4f} cP)',
               f'- rotational: {eta_r:.4f} ± {eta_r*d_r_err/d_r:.4f} cP',
+              f'- rotational less translational: {eta_r-eta_t:+.4f} ± {jackknife_error(rotation_less_translation, *explicit_replicas):.4f} cP '
+              '(delete-one jackknife over the explicit replicas, whose D_t and D_r correlate)',
               f'- the pentane model\'s own shear viscosity: {eta0*cp:.4f} ± {eta0_error*cp:.4f} cP; experiment {ps.EXPERIMENT_VISCOSITY} cP', '']
     (out/'diffusion.md').write_text('\n'.join(lines))
 

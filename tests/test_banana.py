@@ -560,3 +560,18 @@ def test_report_says_which_errors_reach_their_targets():
     assert banana_scene.target_errors(rows).endswith('Every one reached.')
     rows[2]['replicas'], rows[2]['D_t error'] = 1, float('nan')  # one replica: no spread, no error yet
     assert 'ExactFlow D_t nan% (about 2 replicas' in banana_scene.target_errors(rows)
+
+
+def test_jackknife_error_of_a_mean_is_its_standard_error():
+    # The delete-one jackknife gives exactly s/sqrt(n) for a mean (a missing (n-1)/n would be 6%
+    # off at n = 9, the left-out means' own spread a factor 3 small); and for a
+    # difference of two correlated quantities' means, the standard error of the per-replica
+    # differences, which the two errors combined as if independent would overstate.
+    import banana_scene
+    rng = np.random.default_rng(5)
+    a = rng.normal(size=9)
+    b = a+0.1*rng.normal(size=9)
+    assert banana_scene.jackknife_error(np.mean, a) == pytest.approx(a.std(ddof=1)/3, rel=1e-12)
+    difference = banana_scene.jackknife_error(lambda x, y: y.mean()-x.mean(), a, b)
+    assert difference == pytest.approx((b-a).std(ddof=1)/3, rel=1e-12)
+    assert difference < 0.2*math.hypot(a.std(ddof=1), b.std(ddof=1))/3
