@@ -618,7 +618,12 @@ def banana_report(out, settings, xi, eta0, eta0_error, box_stage, explicit_stage
               f'- rotational: {eta_r:.4f} ± {eta_r*d_r_err/d_r:.4f} cP',
               f'- rotational less translational: {eta_r-eta_t:+.4f} ± {jackknife_error(rotation_less_translation, *explicit_replicas):.4f} cP '
               '(delete-one jackknife over the explicit replicas, whose D_t and D_r correlate)',
-              f'- the pentane model\'s own shear viscosity: {eta0*cp:.4f} ± {eta0_error*cp:.4f} cP; experiment {ps.EXPERIMENT_VISCOSITY} cP', '']
+              f'- the pentane model\'s own shear viscosity: {eta0*cp:.4f} ± {eta0_error*cp:.4f} cP; experiment {ps.EXPERIMENT_VISCOSITY} cP',
+              '- over the model\'s own viscosity (the tensor at the solvent\'s own viscosity predicts diffusion its inverse times too '
+              f'slow): translational {eta_t/(eta0*cp):.3f} ± {eta_t/(eta0*cp)*math.hypot(d_t_err/d_t, eta0_error/eta0):.3f}, '
+              f'rotational {eta_r/(eta0*cp):.3f} ± {eta_r/(eta0*cp)*math.hypot(d_r_err/d_r, eta0_error/eta0):.3f}',
+              f'- the explicit diffusion over the tensor\'s at 0.289 cP: translational {d_t/predicted_t:.3f} ± {d_t_err/predicted_t:.3f}, '
+              f'rotational {d_r/predicted_r:.3f} ± {d_r_err/predicted_r:.3f}', '']
     (out/'diffusion.md').write_text('\n'.join(lines))
 
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4))
