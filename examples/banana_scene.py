@@ -581,10 +581,12 @@ def banana_report(out, settings, xi, eta0, eta0_error, box_stage, explicit_stage
         writer.writerows(rows)
     # Long-time diffusion under this integrator is kT (eta Xi)^-1 whatever the mass, so D scales as
     # 1/eta: the viscosity at which the implicit model diffuses as the explicit bananas do.
-    eta_t, eta_r = bm.SOURCE_VISCOSITY*predicted_t/d_t*100, bm.SOURCE_VISCOSITY*predicted_r/d_r*100  # cP
+    def matching_viscosity(predicted, measured):  # cP
+        return bm.SOURCE_VISCOSITY*predicted/measured*100
+    eta_t, eta_r = matching_viscosity(predicted_t, d_t), matching_viscosity(predicted_r, d_r)
 
     def rotation_less_translation(d_t_box, d_r):  # cP, from the explicit replicas' constants
-        return bm.SOURCE_VISCOSITY*(predicted_r/d_r.mean()-predicted_t/(d_t_box.mean()+finite_size))*100
+        return matching_viscosity(predicted_r, d_r.mean())-matching_viscosity(predicted_t, d_t_box.mean()+finite_size)
     explicit_runs = [run for _, run in explicit_stage.runs()]
     temperatures = [float(np.mean(run['temperature'])) for run in explicit_runs]
     t_mean, t_err = mean_error(temperatures)
