@@ -247,9 +247,12 @@ public:
         %pythoncode %{
             def getRigidBodyStates(self):
                 """The state of every rigid body (see the C++ getRigidBodyStates()): a RigidBodyStates with centers
-                (N, 3) Quantity in nm, orientations (N, 3, 3) array A (columns the principal axes in the lab frame;
-                a particle at body-frame coordinates b, getRigidBodyCoordinates(i), is at center + A b), velocities
-                (N, 3) Quantity in nm/ps and angularVelocities (N, 3) Quantity in radians/ps (lab frame)."""
+                (N, 3) Quantity in nm (unwrapped across a periodic box), orientations (N, 3, 3) array A (columns the
+                principal axes in the lab frame; a particle at body-frame coordinates b, getRigidBodyCoordinates(i),
+                is at center + A b), velocities (N, 3) Quantity in nm/ps and angularVelocities (N, 3) Quantity in
+                radians/ps (lab frame). The velocities are synchronous with the positions (a body pulled by a constant
+                force averages its drift velocity), computed with the forces at the current positions; a State's
+                velocities are the integrator's stored ones, whose mean under a force is not the drift."""
                 return _units.rigid_body_states(self._getRigidBodyStates())
 
             def getBodyResistance(self, index):

@@ -1,5 +1,6 @@
 #include "internal/RigidBodyModel.h"
 #include "internal/ExactBodyShapes.h"
+#include "internal/RigidFit.h"
 #include "internal/ResistanceMath.h"
 #include "ResistanceTensor.h"
 #include "openmm/AndersenThermostat.h"
@@ -43,29 +44,6 @@ string bodyName(int body, int numUserBodies, BodyParticles particles) {
     if (body < numUserBodies)
         return "rigid body "+std::to_string(body);
     return "free particle "+std::to_string(particles[0]);
-}
-
-Eigen::Matrix3d toMatrix3(const double q[3][3]) {
-    Eigen::Matrix3d m;
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            m(i, j) = q[i][j];
-    return m;
-}
-
-void fromMatrix3(const Eigen::Matrix3d& m, double q[3][3]) {
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            q[i][j] = m(i, j);
-}
-
-/** The largest distance between two of the points (once per body type: quadratic in its size). */
-double shapeDiameter(const vector<Vec3>& coords) {
-    double squared = 0;
-    for (int i = 0; i < (int) coords.size(); i++)
-        for (int j = i+1; j < (int) coords.size(); j++)
-            squared = std::max(squared, (coords[i]-coords[j]).dot(coords[i]-coords[j]));
-    return std::sqrt(squared);
 }
 
 /**
@@ -273,34 +251,6 @@ vector<Vec3> RigidBodyModel::unwrappedOffsets(int body, const vector<Vec3>& posi
     return rel;
 }
 
-namespace {
-
-/**
- * Kabsch: the rotation A minimizing sum |A from_i - to_i|^2 over two centred point sets. Returns the
- * largest remaining distance |A from_i - to_i|, and in worst the point where it is.
- */
-double fitRotation(const vector<Vec3>& from, const vector<Vec3>& to, Eigen::Matrix3d& a, int& worst) {
-    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
-    for (int i = 0; i < (int) from.size(); i++)
-        h += toEigen(from[i])*toEigen(to[i]).transpose();
-    Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
-    d(2, 2) = ((svd.matrixV()*svd.matrixU().transpose()).determinant() < 0 ? -1 : 1);
-    a = svd.matrixV()*d*svd.matrixU().transpose();
-    double deviation = 0;
-    worst = 0;
-    for (int i = 0; i < (int) from.size(); i++) {
-        double dev = (a*toEigen(from[i])-toEigen(to[i])).norm();
-        if (dev > deviation) {
-            deviation = dev;
-            worst = i;
-        }
-    }
-    return deviation;
-}
-
-} // namespace
-
 bool RigidBodyModel::matchType(int type, int body, const vector<Vec3>& offsets, double rotation[3][3], double& deviation, int& worst) const {
     // The rotation A (body frame to lab) that best places the type's shape on the body; Q = A^T.
     Eigen::Matrix3d a;
@@ -412,6 +362,36 @@ Matrix6 RigidBodyModel::bodyFrameResistance(int body, const vector<Vec3>& offset
     return Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor> >(model.getMatrix(Vec3()).data());
 }
 
+void RigidBodyModel::classifyFriction(BodyType& t, const string& name) {
+    vector<int> active = t.getActiveCoordinates();
+    int dof = active.size();
+    Eigen::MatrixXd xi(dof, dof);
+    for (int i = 0; i < dof; i++)
+        for (int j = 0; j < dof; j++)
+            xi(i, j) = t.resistance(active[i], active[j]);
+    Eigen::LLT<Eigen::MatrixXd> llt(xi);
+    if (llt.info() != Eigen::Success || !xi.allFinite())
+        throw OpenMMException("RigidLangevinIntegrator: the friction of "+name+" is not positive definite in the motions it can make; "
+                "its hydrodynamic beads do not resist every rotation. Set radii on more of its particles or give it an explicit tensor with setBodyResistance()");
+    double maxDiagonal = xi.diagonal().cwiseAbs().maxCoeff();
+    bool diagonal = true;
+    for (int i = 0; i < dof; i++)
+        for (int j = 0; j < dof; j++)
+            if (i != j && std::abs(xi(i, j)) > 1e-12*maxDiagonal)
+                diagonal = false;
+    if (!diagonal)
+        t.frictionClass = FrictionClass::Coupled;
+    else if (t.numRotations == 0 && xi(0, 0) == xi(1, 1) && xi(1, 1) == xi(2, 2))
+        t.frictionClass = FrictionClass::Scalar;
+    else
+        t.frictionClass = FrictionClass::Diagonal;
+    if (diagonal)
+        for (int i = 0; i < 6; i++)
+            for (int j = 0; j < 6; j++)
+                if (i != j)
+                    t.resistance(i, j) = 0;
+}
+
 int RigidBodyModel::createType(int body, const vector<Vec3>& offsets, const Vec3& centre, double rotation[3][3]) {
     BodyParticles particles = bodyParticles[body];
     string name = bodyName(body, numUserBodies, particles);
@@ -471,33 +451,7 @@ int RigidBodyModel::createType(int body, const vector<Vec3>& offsets, const Vec3
     // Friction per unit viscosity in the body frame about the centre of mass.
     t.explicitResistance = (body < numUserBodies && !explicitTensor[body].empty());
     t.resistance = bodyFrameResistance(body, offsets, centre, rotation);
-    vector<int> active = t.getActiveCoordinates();
-    int dof = active.size();
-    Eigen::MatrixXd xi(dof, dof);
-    for (int i = 0; i < dof; i++)
-        for (int j = 0; j < dof; j++)
-            xi(i, j) = t.resistance(active[i], active[j]);
-    Eigen::LLT<Eigen::MatrixXd> llt(xi);
-    if (llt.info() != Eigen::Success || !xi.allFinite())
-        throw OpenMMException("RigidLangevinIntegrator: the friction of "+name+" is not positive definite in the motions it can make; "
-                "its hydrodynamic beads do not resist every rotation. Set radii on more of its particles or give it an explicit tensor with setBodyResistance()");
-    double maxDiagonal = xi.diagonal().cwiseAbs().maxCoeff();
-    bool diagonal = true;
-    for (int i = 0; i < dof; i++)
-        for (int j = 0; j < dof; j++)
-            if (i != j && std::abs(xi(i, j)) > 1e-12*maxDiagonal)
-                diagonal = false;
-    if (!diagonal)
-        t.frictionClass = FrictionClass::Coupled;
-    else if (t.numRotations == 0 && xi(0, 0) == xi(1, 1) && xi(1, 1) == xi(2, 2))
-        t.frictionClass = FrictionClass::Scalar;
-    else
-        t.frictionClass = FrictionClass::Diagonal;
-    if (diagonal)
-        for (int i = 0; i < 6; i++)
-            for (int j = 0; j < 6; j++)
-                if (i != j)
-                    t.resistance(i, j) = 0;
+    classifyFriction(t, name);
     types.push_back(t);
     return types.size()-1;
 }
@@ -709,172 +663,8 @@ double RigidBodyModel::getTotalMass() const {
     return mass;
 }
 
-namespace {
-
-template <class T>
-void writeValue(std::ostream& stream, const T& value) {
-    stream.write((const char*) &value, sizeof(T));
-}
-
-template <class T>
-void readValue(std::istream& stream, T& value) {
-    stream.read((char*) &value, sizeof(T));
-}
-
-template <class T>
-void writeVector(std::ostream& stream, const vector<T>& values) {
-    int size = values.size();
-    writeValue(stream, size);
-    stream.write((const char*) values.data(), size*sizeof(T));
-}
-
-template <class T>
-void readVector(std::istream& stream, vector<T>& values) {
-    int size;
-    readValue(stream, size);
-    if (!stream || size < 0 || size > (1<<28))
-        throw OpenMMException("RigidLangevinIntegrator: the checkpoint is corrupt");
-    values.resize(size);
-    stream.read((char*) values.data(), size*sizeof(T));
-}
-
-} // namespace
-
-void RigidBodyModel::writeTypes(std::ostream& stream) const {
-    int numTypes = types.size();
-    writeValue(stream, numTypes);
-    for (const BodyType& t : types) {
-        writeVector(stream, t.masses);
-        writeVector(stream, t.radii);
-        writeVector(stream, t.coords);
-        writeVector(stream, t.isVirtualSite);
-        writeValue(stream, t.mass);
-        writeValue(stream, t.inertia);
-        writeValue(stream, t.numRotations);
-        writeValue(stream, t.explicitResistance);
-        writeValue(stream, t.resistance);
-        writeValue(stream, t.frictionClass);
-    }
-    writeVector(stream, bodyType);
-}
-
-void RigidBodyModel::readTypes(std::istream& stream) {
-    int numTypes;
-    readValue(stream, numTypes);
-    if (!stream || numTypes < 0 || numTypes > getNumBodies())
-        throw OpenMMException("RigidLangevinIntegrator: the checkpoint is corrupt or was written for another System: it has "+std::to_string(numTypes)+
-                " body types for "+std::to_string(getNumBodies())+" bodies");
-    vector<BodyType> newTypes(numTypes);
-    for (BodyType& t : newTypes) {
-        readVector(stream, t.masses);
-        readVector(stream, t.radii);
-        readVector(stream, t.coords);
-        readVector(stream, t.isVirtualSite);
-        readValue(stream, t.mass);
-        readValue(stream, t.inertia);
-        readValue(stream, t.numRotations);
-        readValue(stream, t.explicitResistance);
-        readValue(stream, t.resistance);
-        readValue(stream, t.frictionClass);
-    }
-    vector<int> newBodyType;
-    readVector(stream, newBodyType);
-    if (!stream)
-        throw OpenMMException("RigidLangevinIntegrator: the checkpoint is truncated (it ends inside the rigid body types)");
-    installTypes(newTypes, newBodyType, "checkpoint");
-}
-
-void RigidBodyModel::writeTypes(SerializationNode& node) const {
-    SerializationNode& typesNode = node.createChildNode("BodyTypes");
-    for (const BodyType& t : types) {
-        SerializationNode& n = typesNode.createChildNode("Type");
-        n.setDoubleProperty("mass", t.mass).setIntProperty("numRotations", t.numRotations);
-        n.setIntProperty("frictionClass", (int) t.frictionClass).setBoolProperty("explicitResistance", t.explicitResistance);
-        n.setDoubleProperty("I0", t.inertia[0]).setDoubleProperty("I1", t.inertia[1]).setDoubleProperty("I2", t.inertia[2]);
-        SerializationNode& xi = n.createChildNode("Resistance");
-        for (int i = 0; i < 6; i++)
-            for (int j = 0; j < 6; j++)
-                xi.setDoubleProperty("x"+std::to_string(i)+std::to_string(j), t.resistance(i, j));
-        for (int i = 0; i < (int) t.masses.size(); i++)
-            n.createChildNode("Particle").setDoubleProperty("m", t.masses[i]).setDoubleProperty("r", t.radii[i]).setIntProperty("site", t.isVirtualSite[i])
-                    .setDoubleProperty("x", t.coords[i][0]).setDoubleProperty("y", t.coords[i][1]).setDoubleProperty("z", t.coords[i][2]);
-    }
-    SerializationNode& assignment = node.createChildNode("BodyTypeOfBody");
-    for (int type : bodyType)
-        assignment.createChildNode("Body").setIntProperty("type", type);
-}
-
-void RigidBodyModel::readTypes(const SerializationNode& node) {
-    vector<BodyType> newTypes;
-    vector<int> newBodyType;
-    try {
-        for (const SerializationNode& n : node.getChildNode("BodyTypes").getChildren()) {
-            BodyType t;
-            t.mass = n.getDoubleProperty("mass");
-            t.numRotations = n.getIntProperty("numRotations");
-            t.frictionClass = (FrictionClass) n.getIntProperty("frictionClass");
-            t.explicitResistance = n.getBoolProperty("explicitResistance");
-            t.inertia = Vec3(n.getDoubleProperty("I0"), n.getDoubleProperty("I1"), n.getDoubleProperty("I2"));
-            const SerializationNode& xi = n.getChildNode("Resistance");
-            for (int i = 0; i < 6; i++)
-                for (int j = 0; j < 6; j++)
-                    t.resistance(i, j) = xi.getDoubleProperty("x"+std::to_string(i)+std::to_string(j));
-            for (const SerializationNode& p : n.getChildren())
-                if (p.getName() == "Particle") {
-                    t.masses.push_back(p.getDoubleProperty("m"));
-                    t.radii.push_back(p.getDoubleProperty("r"));
-                    t.isVirtualSite.push_back(p.getIntProperty("site"));
-                    t.coords.push_back(Vec3(p.getDoubleProperty("x"), p.getDoubleProperty("y"), p.getDoubleProperty("z")));
-                }
-            newTypes.push_back(t);
-        }
-        for (const SerializationNode& b : node.getChildNode("BodyTypeOfBody").getChildren())
-            newBodyType.push_back(b.getIntProperty("type"));
-    }
-    catch (const OpenMMException& e) {
-        throw OpenMMException(string("RigidLangevinIntegrator: the State's rigid body types are incomplete: ")+e.what());
-    }
-    installTypes(newTypes, newBodyType, "State");
-}
-
-void RigidBodyModel::installTypes(const vector<BodyType>& newTypes, const vector<int>& newBodyType, const string& source) {
-    string what = "RigidLangevinIntegrator: the "+source+"'s rigid bodies do not match this System's: ";
-    int numTypes = newTypes.size();
-    if ((int) newBodyType.size() != getNumBodies())
-        throw OpenMMException(what+"it has "+std::to_string(newBodyType.size())+" bodies, the integrator moves "+std::to_string(getNumBodies())+
-                " (rigid bodies and free particles with mass)");
-    for (int t = 0; t < numTypes; t++) {
-        const BodyType& type = newTypes[t];
-        size_t n = type.masses.size();
-        bool finite = std::isfinite(type.mass) && type.resistance.allFinite();
-        for (int k = 0; k < 3; k++)
-            finite = finite && std::isfinite(type.inertia[k]) && type.inertia[k] >= 0;
-        for (size_t i = 0; i < type.coords.size(); i++)
-            finite = finite && std::isfinite(type.coords[i][0]) && std::isfinite(type.coords[i][1]) && std::isfinite(type.coords[i][2]);
-        if (n == 0 || type.radii.size() != n || type.coords.size() != n || type.isVirtualSite.size() != n || !finite || !(type.mass > 0) ||
-                (type.numRotations != 0 && type.numRotations != 2 && type.numRotations != 3) ||
-                (int) type.frictionClass < 0 || (int) type.frictionClass > (int) FrictionClass::Coupled)
-            throw OpenMMException(what+"body type "+std::to_string(t)+" is corrupt (sizes, numbers of rotations, friction class or values out of range)");
-    }
-    for (int b = 0; b < getNumBodies(); b++) {
-        int t = newBodyType[b];
-        if (t < 0 || t >= numTypes)
-            throw OpenMMException(what+bodyName(b, numUserBodies, bodyParticles[b])+" has body type "+std::to_string(t)+", but there are "+std::to_string(numTypes));
-        const BodyType& type = newTypes[t];
-        if (type.masses.size() != bodyParticles[b].size())
-            throw OpenMMException(what+bodyName(b, numUserBodies, bodyParticles[b])+" has "+std::to_string(bodyParticles[b].size())+" particles, its type "+
-                    std::to_string(type.masses.size()));
-        for (int i = 0; i < (int) bodyParticles[b].size(); i++) {
-            int p = bodyParticles[b][i];
-            if (type.masses[i] != particleMass[p] || type.isVirtualSite[i] != particleIsVirtualSite[p])
-                throw OpenMMException(what+"particle "+std::to_string(p)+" of "+bodyName(b, numUserBodies, bodyParticles[b])+" has mass "+str(particleMass[p])+
-                        (particleIsVirtualSite[p] ? " and is a virtual site" : "")+", but "+str(type.masses[i])+(type.isVirtualSite[i] ? " and a virtual site" : "")+
-                        " there");
-        }
-    }
-    types = newTypes;
-    for (BodyType& t : types)
-        t.diameter = shapeDiameter(t.coords);
-    bodyType = newBodyType;
+void RigidBodyModel::clearTypes() {
+    types.clear();
+    bodyType.clear();
     typesBySignature.clear();
 }

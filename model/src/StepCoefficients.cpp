@@ -53,6 +53,14 @@ ModeCoefficients RigidLangevinPlugin::computeModeCoefficients(double lambda, dou
     return c;
 }
 
+double RigidLangevinPlugin::synchronousShare(double x) {
+    if (x < 1e-3)
+        return 0.5-x/12+x*x*x/720;  // the next term, x^5/30240, is below 4e-20
+    if (x > 700)
+        return 1/x;
+    return 1/x-1/std::expm1(x);
+}
+
 vector<TypeStepCoefficients> RigidLangevinPlugin::computeStepCoefficients(const RigidBodyModel& model, SplittingScheme scheme,
         double temperature, double viscosity, double stepSize) {
     const double kT = BOLTZ*temperature;
@@ -99,6 +107,12 @@ vector<TypeStepCoefficients> RigidLangevinPlugin::computeStepCoefficients(const 
             double x = (m > 0 ? stepSize*viscosity*type.resistance(k, k)/m : 0.0);
             c.driveFraction[k] = (x == 0 ? 1.0 : -2*std::expm1(-0.5*x)/x);
         }
+        Eigen::VectorXd share = Eigen::VectorXd::Constant(dof, 0.5);
+        if (scheme == SplittingScheme::ExactFlow)
+            for (int i = 0; i < dof; i++)
+                share[i] = synchronousShare(stepSize*std::max(0.0, lambda[i]));
+        c.synchronousKick = Matrix6::Zero();
+        c.synchronousKick.topLeftCorner(dof, dof) = c.fromModes.topLeftCorner(dof, dof)*share.asDiagonal()*c.toModes.topLeftCorner(dof, dof);
         for (int i = 0; i < dof; i++)
             lambdaMax = std::max(lambdaMax, lambda[i]);
         c.stiffness = 0.5*stepSize*lambdaMax;

@@ -49,7 +49,22 @@ namespace RigidLangevinPlugin {
  * first set on the Context; identical bodies (same masses, radii and shape up to rotation and
  * translation, within 1e-3 nm) share one set of precomputed matrices and the exact same shape.
  * Positions set later must agree with rigid placements of the bodies (within 1e-3 nm) and
- * velocities are projected onto rigid motion.
+ * velocities are projected onto rigid motion; positions that deform a body are refused at the next
+ * step or reading of body states (not by setPositions() itself: OpenMM's energy minimizer sets
+ * positions that break the constraints keeping bodies rigid and restores them afterwards).
+ * Positions and velocities changed by another integrator (in a CompoundIntegrator) are taken as
+ * they are.
+ *
+ * A State (setState(), with integrator parameters) or a checkpoint restores where the bodies are
+ * and how they move, exactly; the physics stays this integrator's: its temperature, viscosity,
+ * scheme, radii, explicit tensors and blobs, whatever the integrator that saved it had. Where the
+ * saved bodies are not this integrator's (other masses, as after Context::reinitialize(true) that
+ * follows setParticleMass(), or bodies or their particles listed in another order), the bodies are
+ * fitted to the restored particles instead, as setPositions() and setVelocities() would, so every
+ * particle is where it was saved. If the plugin's part of a checkpoint or State is refused
+ * (damaged, or its particles deform this integrator's bodies), OpenMM has already restored the
+ * positions, velocities, time and box from it: the integrator then refuses to step or report body
+ * states until positions are set again or a restore succeeds.
  *
  * A System with a CMMotionRemover is refused (OpenMMException at Context creation, or at the first
  * step after setViscosity()) while the viscosity is not zero: the solvent's friction and noise do
@@ -214,8 +229,13 @@ public:
      *
      * The step is BAOAB's (setScheme(BAOAB)) with the friction step the midpoint rule for all bodies
      * at once: it keeps the Maxwell distribution of velocities exactly at any friction and step,
-     * and the long-time diffusion of a free body exact. Creating a Context or stepping with
-     * interactions under another scheme throws.
+     * the long-time diffusion of a free body exact, and the drift of a body under a constant force
+     * exact (the mean of getRigidBodyStates() velocities too). Its velocities decay by
+     * (1 - x/2)/(1 + x/2) a step per mode of the friction (x = gamma h of the mode) instead of
+     * exp(-x): the velocity autocorrelation is right to O(x^3) a step where x is small, but it
+     * alternates in sign where x > 2 (-0.83 a step at x = 21). Keep the fastest mode's gamma h below
+     * 2 where velocity autocorrelations matter; positions, diffusion and the ensemble are right at
+     * any step. Creating a Context or stepping with interactions under another scheme throws.
      */
     void setHydrodynamicInteractions(bool enabled);
     /**
@@ -269,18 +289,40 @@ public:
     int getNumDegreesOfFreedom() const;
     /**
      * Get the state of every rigid body added with addRigidBody(), in that order. Needs a Context
-     * with positions. The velocities are those a State reports for the body's particles (with
-     * friction, the ones whose distribution is exactly Maxwell's; without, half a kick behind the
-     * positions, as velocity Verlet stores them): a particle at body-frame coordinates b (see
+     * with positions; computes the forces at them. A particle at body-frame coordinates b (see
      * getRigidBodyCoordinates()) is at center + A b and moves at velocity + angularVelocity x A b.
      *
-     * @param[out] centers            each body's centre of mass (nm)
+     * The velocities are synchronous with the positions: the velocity a body has under the forces
+     * at its position, which for a body pulled by a constant force F averages exactly its drift
+     * velocity (F/(m gamma) for a sphere of friction m gamma) at any step and friction under
+     * ExactFlow, and whose fluctuations under a constant force have the exact autocorrelation
+     * exp(-gamma t). Under ExactFlow with friction they are the stored velocity plus
+     * beta(gamma h) = 1/(gamma h) - 1/(exp(gamma h) - 1) of a full kick h F/m (per mode of
+     * M^-1 viscosity Xi): one half without friction (velocity Verlet's on-step velocity), 1/(gamma h)
+     * when friction is stiff. Under BAOAB (with or without hydrodynamic interactions) and Original
+     * they are the stored velocity plus half a kick: under BAOAB their mean is BAOAB's own drift,
+     * (gamma h/2) coth(gamma h/2) times F/(m gamma) (as its diffusion is too fast by that factor),
+     * exactly F/(m gamma) with hydrodynamic interactions (whose friction step's autocorrelation is
+     * described at setHydrodynamicInteractions()).
+     *
+     * A State's velocities, and the particle velocities the Context holds, are instead the stored
+     * ones, as OpenMM's own integrators store theirs: with friction under ExactFlow and BAOAB the
+     * velocities whose distribution is exactly Maxwell's for free bodies (the ones
+     * computeKineticEnergy() and the temperatures use), which under a constant force average
+     * gamma h/(exp(gamma h) - 1) of the drift (0.90 at gamma h = 0.2, 0.31 at 2, 0 when gamma h is
+     * large); without friction and under Original, half a kick behind the positions. Measure drift
+     * velocities (sedimentation, electrophoresis) and velocity autocorrelations from these body
+     * states, not from a State's velocities.
+     *
+     * @param[out] centers            each body's centre of mass (nm), unwrapped: it moves on across
+     *                                the periodic box, so that a body's displacement is its motion
+     *                                (wrap it yourself if you want it in the box)
      * @param[out] orientations       9 values per body, row-major: the rotation A (body frame to
      *                                lab) whose columns are the body's principal axes of inertia in
      *                                the lab frame, in the order of getRigidBodyCoordinates()
-     * @param[out] velocities         each body's centre-of-mass velocity (nm/ps)
-     * @param[out] angularVelocities  each body's angular velocity in the lab frame (radians/ps); a
-     *                                linear body never turns about its own axis
+     * @param[out] velocities         each body's centre-of-mass velocity (nm/ps), synchronous
+     * @param[out] angularVelocities  each body's angular velocity in the lab frame (radians/ps),
+     *                                synchronous; a linear body never turns about its own axis
      */
     void getRigidBodyStates(std::vector<OpenMM::Vec3>& centers, std::vector<double>& orientations, std::vector<OpenMM::Vec3>& velocities,
                             std::vector<OpenMM::Vec3>& angularVelocities) const;

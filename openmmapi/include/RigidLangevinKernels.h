@@ -59,10 +59,16 @@ public:
     /** Get the state of every body (user bodies first, then free particles). */
     virtual void getBodyStates(OpenMM::ContextImpl& context, std::vector<BodyState>& states) = 0;
     /**
-     * Install the body types of a State (RigidBodyModel::writeTypes()) and then the body states,
-     * which are expressed in those types' frames; the particles are placed from them.
+     * Get the state of every body with its synchronous velocities (TypeStepCoefficients::
+     * synchronousKick), from the forces at the current positions (computed here).
      */
-    virtual void setBodyTypesAndStates(OpenMM::ContextImpl& context, const OpenMM::SerializationNode& types, const std::vector<BodyState>& states) = 0;
+    virtual void getSynchronousBodyStates(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, std::vector<BodyState>& states) = 0;
+    /**
+     * Restore the body states of a State, expressed in the frames of the body types it carries
+     * (RigidBodyModel::writeTypes()), into this integrator's bodies (RigidBodyModel::restoreStates():
+     * the friction stays this integrator's); the particles are placed from them.
+     */
+    virtual void restoreFromState(OpenMM::ContextImpl& context, const OpenMM::SerializationNode& types, const std::vector<BodyState>& states) = 0;
     /** Write everything needed for a bit-identical continuation. */
     virtual void createCheckpoint(OpenMM::ContextImpl& context, std::ostream& stream) = 0;
     /** Read a checkpoint written by createCheckpoint(). */

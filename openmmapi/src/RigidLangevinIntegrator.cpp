@@ -351,7 +351,7 @@ void RigidLangevinIntegrator::getRigidBodyStates(vector<Vec3>& centers, vector<d
     IntegrateRigidLangevinStepKernel& k = kernel.getAs<IntegrateRigidLangevinStepKernel>();
     const RigidBodyModel& model = k.getModel(*context);
     vector<BodyState> states;
-    k.getBodyStates(*context, states);
+    k.getSynchronousBodyStates(*context, *this, states);
     int numBodies = getNumRigidBodies();
     centers.resize(numBodies);
     orientations.resize(9*numBodies);
@@ -459,5 +459,5 @@ void RigidLangevinIntegrator::deserializeParameters(const SerializationNode& nod
     catch (const OpenMMException& e) {
         throw OpenMMException(string("RigidLangevinIntegrator: the State's body states are incomplete: ")+e.what());
     }
-    kernel.getAs<IntegrateRigidLangevinStepKernel>().setBodyTypesAndStates(*context, node, states);
+    kernel.getAs<IntegrateRigidLangevinStepKernel>().restoreFromState(*context, node, states);
 }

@@ -65,13 +65,17 @@ class RigidBodyStateReporter(_CsvReporter):
     or pandas (pandas.read_csv(file)). The header names the columns:
 
         step, time_ps, body,
-        x_nm, y_nm, z_nm                    the centre of mass
+        x_nm, y_nm, z_nm                    the centre of mass (unwrapped: it moves on across a periodic box)
         a11 ... a33                         the orientation A (body frame to lab, row-major; its columns are
                                             the principal axes in the lab frame)
         vx_nm_ps, vy_nm_ps, vz_nm_ps        the centre-of-mass velocity
         wx_rad_ps, wy_rad_ps, wz_rad_ps     the angular velocity (lab frame)
 
     A particle at body-frame coordinates b (integrator.getRigidBodyCoordinates(body)) is at x + A b.
+    The velocities are synchronous with the positions: under ExactFlow a body pulled by a constant force
+    F averages its drift velocity (F/(m gamma) for a sphere) at any step and friction. A State's velocities
+    are the integrator's stored ones instead, which average gamma h/(exp(gamma h) - 1) of the drift (see
+    RigidLangevinIntegrator.getRigidBodyStates()): measure sedimentation velocities from this file.
 
     Parameters
     ----------

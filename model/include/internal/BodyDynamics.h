@@ -218,6 +218,29 @@ inline void kick(BodyState& s, const BodyType& type, const OpenMM::Vec3& force, 
 }
 
 /**
+ * Move a stored body state's velocities to the synchronous ones (TypeStepCoefficients::
+ * synchronousKick) with the body's force (lab frame) and torque (body frame) at its position.
+ */
+inline void synchronousVelocity(BodyState& s, const BodyType& type, const TypeStepCoefficients& c, const OpenMM::Vec3& force,
+                                const OpenMM::Vec3& bodyTorque, double h) {
+    const std::vector<int> active = type.getActiveCoordinates();
+    const int dof = active.size();
+    Vector6 kick = Vector6::Zero();
+    OpenMM::Vec3 bodyForce = toBody(s.rotation, force);
+    for (int i = 0; i < dof; i++)
+        kick[i] = (active[i] < 3 ? h*bodyForce[active[i]]/type.mass : h*bodyTorque[active[i]-3]/type.inertia[active[i]-3]);
+    Vector6 shift = c.synchronousKick*kick;
+    OpenMM::Vec3 translation;
+    for (int i = 0; i < dof; i++) {
+        if (active[i] < 3)
+            translation[active[i]] = shift[i];
+        else
+            s.angularMomentum[active[i]-3] += type.inertia[active[i]-3]*shift[i];
+    }
+    s.velocity += toLab(s.rotation, translation);
+}
+
+/**
  * Call f(std::integral_constant<int, R>()) with R the body's number of rotating axes. The flows below
  * take R as a template argument, so that their loops over the active coordinates (activeCoordinate
  * in RigidBodyModel.h) unroll and no branch on a coordinate's kind is left.

@@ -86,6 +86,16 @@ struct BodyState {
 };
 
 /**
+ * Body types and states as a State or a checkpoint carries them: read and checked against the
+ * System, not yet applied (RigidBodyModel::restoreStates()).
+ */
+struct SavedBodies {
+    std::vector<BodyType> types;
+    std::vector<int> bodyType;   ///< per body, an index into types
+    std::vector<BodyState> states;
+};
+
+/**
  * The rigid bodies of a System as the integrator moves them: the bodies the user defined followed
  * by one single-particle body per free particle with mass, grouped into types that share shape,
  * masses, radii and friction. This is the API layer's precomputation shared by every platform:
@@ -113,10 +123,6 @@ public:
     BodyParticles getBodyParticles(int body) const {
         return bodyParticles[body];
     }
-    /** Whether types have been built from positions yet. */
-    bool isBuilt() const {
-        return !types.empty() || getNumBodies() == 0;
-    }
     int getNumTypes() const {
         return types.size();
     }
@@ -125,10 +131,6 @@ public:
     }
     int getBodyType(int body) const {
         return bodyType[body];
-    }
-    /** The body a particle belongs to (free particles with mass included), or -1. */
-    int getParticleBody(int particle) const {
-        return particleBody[particle];
     }
     /**
      * Whether some virtual site rides on no body. A site in a body is placed with it, as its
@@ -198,21 +200,76 @@ public:
     double getTotalMass() const;
     /** Write the body types and their assignment, exactly, for a checkpoint. */
     void writeTypes(std::ostream& stream) const;
-    /** Restore body types written by writeTypes(); throws if they do not fit this System's bodies. */
-    void readTypes(std::istream& stream);
     /**
      * Write the body types and their assignment into a State's integrator parameters. A body
      * state (rotation, body-frame angular momentum) means something only in its type's frame, and
      * a Context that builds its types from other positions may choose other principal axes.
      */
     void writeTypes(OpenMM::SerializationNode& node) const;
-    /** Restore body types written into a State by writeTypes(); throws if they do not fit this System's bodies. */
-    void readTypes(const OpenMM::SerializationNode& node);
+    /**
+     * Read body types written by writeTypes() into saved (its types and bodyType); throws where they
+     * are corrupt. Nothing in the model changes: see restoreStates().
+     */
+    void readTypes(std::istream& stream, SavedBodies& saved) const;
+    void readTypes(const OpenMM::SerializationNode& node, SavedBodies& saved) const;
+    /**
+     * Throw, naming the body, where saved types or states (read by readTypes(), the states by the
+     * caller) are corrupt: values out of range, not finite, rotations not orthonormal.
+     */
+    void checkSavedTypes(const SavedBodies& saved, const std::string& source) const;
+    /**
+     * The body states saved with another model's types, expressed in this model's: a State or a
+     * checkpoint carries where the bodies are and how they move, while this model (built from the
+     * integrator the user made) keeps its own friction, radii and blobs. Each saved state is turned
+     * into this model's frame of its body (the rotation that takes the saved type's shape onto this
+     * type's), or the type takes the saved frame (adoptSavedFrames()), so that the run continues as
+     * it would have.
+     *
+     * @param saved      the saved types, their assignment and the states (checked: checkSavedTypes())
+     * @param positions  the particle positions restored with them (the State's or the checkpoint's)
+     * @param box        the periodic box vectors, or NULL
+     * @param[out] states        the restored states
+     * @param[out] typesChanged  whether a body type took the saved frame: its frame, coordinates,
+     *                           moments and friction matrix changed (step coefficients, blobs and a
+     *                           kernel's copies of the types must be made again)
+     * @return false where the saved states do not describe this System's bodies: other bodies or
+     *         masses (Context::reinitialize(true) after setParticleMass()), other shapes, or particles
+     *         that, placed from the restored states, would not be at the positions given (within
+     *         GeometryTolerance; each at its nearest periodic image where box is not NULL), as when
+     *         bodies or their particles are listed in another order than where they were saved. The
+     *         caller then fits the bodies to the restored particles instead (fitStates()).
+     */
+    bool restoreStates(const SavedBodies& saved, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box,
+                       std::vector<BodyState>& states, bool& typesChanged);
+    /** Forget the body types, so that the next fitStates() builds them again from the positions it is given. */
+    void clearTypes();
 private:
-    void installTypes(const std::vector<BodyType>& newTypes, const std::vector<int>& newBodyType, const std::string& source);
+    /** Whether saved types describe this System's bodies: their number, particles and masses. */
+    bool savedBodiesMatch(const SavedBodies& saved) const;
+    /** Whether particles placed from states are at positions (within GeometryTolerance). */
+    bool placedAt(const std::vector<BodyState>& states, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box) const;
     int findOrCreateType(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, double rotation[3][3]);
     bool matchType(int type, int body, const std::vector<OpenMM::Vec3>& offsets, double rotation[3][3], double& deviation, int& worst) const;
     int createType(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, double rotation[3][3]);
+    /**
+     * Set a type's friction class from its resistance (zeroing off-diagonal round-off of a diagonal
+     * one); throws, naming the body, if it is not positive definite in the motions the body makes.
+     */
+    static void classifyFriction(BodyType& type, const std::string& name);
+    /**
+     * The rotation P from each saved type's frame to this model's frame of the same shape (b_here =
+     * P b_saved), for every pair of saved and model types some body has; false if a pair's shapes
+     * differ by more than GeometryTolerance. The identity exactly where the coordinates are equal.
+     */
+    bool fitSavedFrames(const SavedBodies& saved, std::map<std::pair<int, int>, Eigen::Matrix3d>& frameChange) const;
+    /**
+     * Turn every type whose bodies were all saved with one type into that type's frame (its
+     * coordinates and moments as saved; its friction, this model's, rotated into it), and give
+     * those bodies their saved states as they are: a run continues exactly where the frame of a
+     * body with equal moments (any axes are principal) was chosen otherwise. Returns whether a
+     * type changed.
+     */
+    bool adoptSavedFrames(const SavedBodies& saved, const std::map<std::pair<int, int>, Eigen::Matrix3d>& frameChange, std::vector<BodyState>& states);
     /** The explicit blobs of a body in the frame with rotation (lab to frame) where its particles' offsets from the centre of mass are offsets. */
     /** The rotation from the frame of positions given with a body's tensor or blobs (reference, with
      *  their centre of mass) to its offsets now; refused, naming given and what it was placedFor,

@@ -82,7 +82,24 @@ struct TypeStepCoefficients {
     Matrix6 randomForce;          ///< Original: Cholesky factor of 2 kT viscosity Xi / h
     double inverseMass[6];        ///< Original: M^-1 on the active coordinates
     double stiffness;             ///< (h/2) * largest eigenvalue of M^-1 viscosity Xi
+    /**
+     * The share of a full kick (h M^-1 times the body's generalized force, a U-vector) that takes
+     * the stored velocity (kept between the flow and the next kick, or half a kick behind) to the
+     * synchronous one a body-state read-out reports: ExactFlow with friction, fromModes
+     * diag(synchronousShare(lambda_k h)) toModes, with which the mean velocity of a body under a
+     * constant force is exactly its drift at any step; one half (velocity Verlet's on-step
+     * velocity) in the other schemes and without friction.
+     */
+    Matrix6 synchronousKick;
 };
+
+/**
+ * beta(x) = 1/x - 1/(e^x - 1): the share of a kick that, added to the velocity an exact free flow
+ * over a step with x = lambda h leaves, makes the exact solution of the flow under a force that is
+ * constant over the step (its velocity relaxes to F/(m lambda) while the kicks' impulses decay).
+ * 1/2 at x = 0, 1/x as x grows.
+ */
+OPENMM_EXPORT_RIGIDLANGEVIN double synchronousShare(double x);
 
 /** Compute the step coefficients of every body type of a model. */
 OPENMM_EXPORT_RIGIDLANGEVIN std::vector<TypeStepCoefficients> computeStepCoefficients(const RigidBodyModel& model,

@@ -1,4 +1,5 @@
 #include "internal/RigidLangevinStepKernelBase.h"
+#include "internal/BodyDynamics.h"
 #include "internal/CheckpointSection.h"
 #include "openmm/CMMotionRemover.h"
 #include "openmm/OpenMMException.h"
@@ -17,7 +18,7 @@ using std::vector;
 
 RigidLangevinStepKernelBase::RigidLangevinStepKernelBase(std::string name, const Platform& platform) :
         IntegrateRigidLangevinStepKernel(name, platform), removerFrequency(0), removerIndex(-1), bodiesInitialized(false), particlesChanged(true),
-        ignoreStateChanges(false), positionsSet(false), interactionsEnabled(false) {
+        ignoreStateChanges(false), positionsSet(false), interactionsEnabled(false), expectedStepCount(-1) {
     for (double& p : coefficientParameters)
         p = std::numeric_limits<double>::quiet_NaN();
 }
@@ -136,8 +137,6 @@ bool RigidLangevinStepKernelBase::kineticEnergyRequiresForce(const RigidLangevin
 void RigidLangevinStepKernelBase::stateChanged(ContextImpl& context, State::DataType changed) {
     if (changed != State::Positions && changed != State::Velocities)
         return;
-    if (changed == State::Positions)
-        positionsSet = true;
     if (ignoreStateChanges) {
         // ContextImpl::loadCheckpoint() reports positions, then velocities, as changed after the
         // integrator restored its exact body states; the particles already match them.
@@ -145,21 +144,46 @@ void RigidLangevinStepKernelBase::stateChanged(ContextImpl& context, State::Data
             ignoreStateChanges = false;
         return;
     }
+    if (changed == State::Positions) {
+        positionsSet = true;
+        refusedRestore.clear();
+    }
+    // A position that deforms a body is refused at the next step or reading of body states, not
+    // here: OpenMM's energy minimizer sets positions that break the constraints keeping bodies
+    // rigid, and restores those constraints only afterwards.
     particlesChanged = true;
 }
 
 void RigidLangevinStepKernelBase::updateBodies(ContextImpl& context) {
+    if (!refusedRestore.empty())
+        throw OpenMMException("RigidLangevinIntegrator: the last "+refusedRestore+" was refused, but OpenMM had already set the Context's positions, "
+                "velocities, time and box from it, so the rigid bodies do not match them. Load a "+refusedRestore+" that is accepted, or set the "
+                "positions (and velocities) or a State, before stepping");
+    if (context.getStepCount() != expectedStepCount)
+        particlesChanged = true;  // another integrator (in a CompoundIntegrator) stepped
     if (!particlesChanged)
         return;
     if (!positionsSet)
         throw OpenMMException("RigidLangevinIntegrator: the particle positions have not been set; rigid bodies take their shapes from them");
+    fitBodiesToParticles(context);
+}
+
+void RigidLangevinStepKernelBase::fitBodiesToParticles(ContextImpl& context) {
     vector<Vec3> positions, velocities;
     context.getPositions(positions);
     context.getVelocities(velocities);
     Vec3 box[3];
     context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     bool periodic = context.getSystem().usesPeriodicBoundaryConditions();
-    vector<BodyState> states = model->fitStates(positions, velocities, periodic ? box : NULL);
+    vector<BodyState> states;
+    try {
+        states = model->fitStates(positions, velocities, periodic ? box : NULL);
+    }
+    catch (...) {
+        if (!bodiesInitialized)
+            model->clearTypes();  // a first build cut short leaves no half-built types behind
+        throw;
+    }
     if (!bodiesInitialized) {
         initializeInteractions();
         initializeBodies(context, *model);
@@ -168,6 +192,7 @@ void RigidLangevinStepKernelBase::updateBodies(ContextImpl& context) {
     uploadBodyStates(context, states);
     context.computeVirtualSites();
     particlesChanged = false;
+    expectedStepCount = context.getStepCount();
 }
 
 void RigidLangevinStepKernelBase::updateCoefficients(ContextImpl& context, const RigidLangevinIntegrator& integrator) {
@@ -194,6 +219,7 @@ void RigidLangevinStepKernelBase::execute(ContextImpl& context, const RigidLange
     // A CMMotionRemover acts on the particle velocities before the step, on the same steps as here.
     bool removeMotion = (removerFrequency > 0 && context.getStepCount()%removerFrequency == 0);
     takeStep(context, integrator, removeMotion);
+    expectedStepCount = context.getStepCount();
 }
 
 void RigidLangevinStepKernelBase::computeKineticEnergies(ContextImpl& context, const RigidLangevinIntegrator& integrator,
@@ -215,39 +241,66 @@ void RigidLangevinStepKernelBase::getBodyStates(ContextImpl& context, vector<Bod
     downloadBodyStates(context, states);
 }
 
-void RigidLangevinStepKernelBase::setBodyTypesAndStates(ContextImpl& context, const SerializationNode& types, const vector<BodyState>& states) {
-    if ((int) states.size() != model->getNumBodies())
-        throw OpenMMException("RigidLangevinIntegrator: the State has states for "+std::to_string(states.size())+" bodies, but the integrator moves "+
-                std::to_string(model->getNumBodies())+" (rigid bodies and free particles)");
-    model->readTypes(types);
-    installRestoredBodies(context, states);
-    context.computeVirtualSites();
+void RigidLangevinStepKernelBase::getSynchronousBodyStates(ContextImpl& context, const RigidLangevinIntegrator& integrator, vector<BodyState>& states) {
+    getBodyStates(context, states);
+    updateCoefficients(context, integrator);
+    context.calcForcesAndEnergy(true, false, integrator.getIntegrationForceGroups());
+    vector<Vec3> forces;
+    context.getForces(forces);
+    for (int b = 0; b < model->getNumBodies(); b++) {
+        int t = model->getBodyType(b);
+        const BodyType& type = model->getType(t);
+        Vec3 force, torque;
+        BodyDynamics::gatherForce(type, model->getBodyParticles(b), states[b], forces, force, torque);
+        BodyDynamics::synchronousVelocity(states[b], type, coefficients[t], force, torque, integrator.getStepSize());
+    }
 }
 
-void RigidLangevinStepKernelBase::installRestoredBodies(ContextImpl& context, const vector<BodyState>& states) {
-    // A reader checks what it read: finite states and proper rotations.
-    for (int b = 0; b < (int) states.size(); b++) {
-        const BodyState& s = states[b];
-        bool good = true;
-        for (int k = 0; k < 3; k++)
-            good = good && std::isfinite(s.position[k]) && std::isfinite(s.velocity[k]) && std::isfinite(s.angularMomentum[k]);
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) {
-                double dot = 0;
-                for (int k = 0; k < 3; k++)
-                    dot += s.rotation[i][k]*s.rotation[j][k];
-                good = good && std::abs(dot-(i == j ? 1.0 : 0.0)) < 1e-6;
-            }
-        if (!good)
-            throw OpenMMException("RigidLangevinIntegrator: the restored state of body "+std::to_string(b)+" is corrupt (a value is not finite or its "
-                    "rotation is not orthonormal)");
+void RigidLangevinStepKernelBase::restoreFromState(ContextImpl& context, const SerializationNode& types, const vector<BodyState>& states) {
+    refuseStepsIfRestoreFails("State", [&] () {
+        SavedBodies saved;
+        model->readTypes(types, saved);
+        saved.states = states;
+        model->checkSavedTypes(saved, "State");
+        restoreSavedBodies(context, saved, "State");
+    });
+}
+
+void RigidLangevinStepKernelBase::refuseStepsIfRestoreFails(const std::string& source, const std::function<void ()>& restore) {
+    try {
+        restore();
     }
-    initializeInteractions();
-    initializeBodies(context, *model);
-    bodiesInitialized = true;
-    uploadBodyStates(context, states);
-    coefficients.clear();
-    particlesChanged = false;
+    catch (...) {
+        refusedRestore = source;
+        throw;
+    }
+    refusedRestore.clear();
+}
+
+void RigidLangevinStepKernelBase::restoreSavedBodies(ContextImpl& context, const SavedBodies& saved, const std::string& source) {
+    // The file's particles are in the context; the first time, the body types are built from them.
+    if (!bodiesInitialized)
+        fitBodiesToParticles(context);
+    vector<Vec3> positions;
+    context.getPositions(positions);
+    Vec3 box[3];
+    context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    bool periodic = context.getSystem().usesPeriodicBoundaryConditions();
+    vector<BodyState> states;
+    bool typesChanged;
+    if (model->restoreStates(saved, positions, periodic ? box : NULL, states, typesChanged)) {
+        if (typesChanged) {
+            initializeInteractions();
+            initializeBodies(context, *model);
+            coefficients.clear();
+        }
+        uploadBodyStates(context, states);
+        context.computeVirtualSites();
+        particlesChanged = false;
+        expectedStepCount = context.getStepCount();
+    }
+    else
+        fitBodiesToParticles(context);
     positionsSet = true;
 }
 
@@ -268,20 +321,24 @@ void RigidLangevinStepKernelBase::createCheckpoint(ContextImpl& context, std::os
 }
 
 void RigidLangevinStepKernelBase::loadCheckpoint(ContextImpl& context, std::istream& stream) {
-    int version;
-    std::istringstream framed(CheckpointSection::read(stream, version));
-    // Format 3 has no frame: its payload is read from the checkpoint itself.
-    std::istream& in = (version == CheckpointSection::UnframedVersion ? stream : framed);
-    model->readTypes(in);
-    int numBodies;
-    in.read((char*) &numBodies, sizeof(int));
-    if (!in || numBodies != model->getNumBodies())
-        throw OpenMMException("RigidLangevinIntegrator: the checkpoint's rigid bodies do not match this System's");
-    vector<BodyState> states(numBodies);
-    in.read((char*) states.data(), numBodies*sizeof(BodyState));
-    loadRandomCheckpoint(in);
-    if (!in)
-        throw OpenMMException("RigidLangevinIntegrator: the checkpoint is truncated (it ends inside the body states or the random number generator)");
-    installRestoredBodies(context, states);
-    ignoreStateChanges = true;
+    refuseStepsIfRestoreFails("checkpoint", [&] () {
+        int version;
+        std::istringstream framed(CheckpointSection::read(stream, version));
+        // Format 3 has no frame: its payload is read from the checkpoint itself.
+        std::istream& in = (version == CheckpointSection::UnframedVersion ? stream : framed);
+        SavedBodies saved;
+        model->readTypes(in, saved);
+        int numBodies;
+        in.read((char*) &numBodies, sizeof(int));
+        if (!in || numBodies < 0 || numBodies > model->getNumBodies()+(1<<20))
+            throw OpenMMException("RigidLangevinIntegrator: the checkpoint is corrupt (it has "+std::to_string(numBodies)+" body states)");
+        saved.states.resize(numBodies);
+        in.read((char*) saved.states.data(), numBodies*sizeof(BodyState));
+        loadRandomCheckpoint(in);
+        if (!in)
+            throw OpenMMException("RigidLangevinIntegrator: the checkpoint is truncated (it ends inside the body states or the random number generator)");
+        model->checkSavedTypes(saved, "checkpoint");
+        restoreSavedBodies(context, saved, "checkpoint");
+        ignoreStateChanges = true;
+    });
 }

@@ -29,12 +29,13 @@ public:
     void stateChanged(OpenMM::ContextImpl& context, OpenMM::State::DataType changed);
     const RigidBodyModel& getModel(OpenMM::ContextImpl& context);
     void getBodyStates(OpenMM::ContextImpl& context, std::vector<BodyState>& states);
+    void getSynchronousBodyStates(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, std::vector<BodyState>& states);
     void getKrylovIterations(int& noise, int& noiseSolve, int& friction) const {
         noise = lastKrylovIterations.noise;
         noiseSolve = lastKrylovIterations.noiseSolve;
         friction = lastKrylovIterations.friction;
     }
-    void setBodyTypesAndStates(OpenMM::ContextImpl& context, const OpenMM::SerializationNode& types, const std::vector<BodyState>& states);
+    void restoreFromState(OpenMM::ContextImpl& context, const OpenMM::SerializationNode& types, const std::vector<BodyState>& states);
     void createCheckpoint(OpenMM::ContextImpl& context, std::ostream& stream);
     void loadCheckpoint(OpenMM::ContextImpl& context, std::istream& stream);
 protected:
@@ -91,7 +92,11 @@ protected:
                              const std::function<double ()>& normal, BlobMobility& mobility);
     /** The iterations the last coupled friction step's Krylov solves took (all zero after a dense one). */
     HydrodynamicInteractions::KrylovIterations lastKrylovIterations = {0, 0, 0};
-    /** Fit the bodies to the particles if those were set from outside since the last step. */
+    /**
+     * Fit the bodies to the particles if those were set from outside since the last step (or moved
+     * by another integrator: the context's step count is not the one this kernel left). Throws if
+     * the last restore was refused and no positions were set since.
+     */
     void updateBodies(OpenMM::ContextImpl& context);
     std::unique_ptr<RigidBodyModel> model;
     std::vector<TypeStepCoefficients> coefficients;
@@ -106,10 +111,26 @@ private:
     void checkInteractionScheme(const RigidLangevinIntegrator& integrator) const;
     /** Build the bodies' coupling from the model's types, if interactions are on. */
     void initializeInteractions();
-    /** Set up the kernel's storage for types just restored into the model, then place the bodies from states. */
-    void installRestoredBodies(OpenMM::ContextImpl& context, const std::vector<BodyState>& states);
+    /** Fit the bodies to the particles in the context (building the body types the first time), and place them. */
+    void fitBodiesToParticles(OpenMM::ContextImpl& context);
+    /**
+     * Put the bodies where a State or checkpoint saved them (its positions and velocities are in the
+     * context already): its exact body states where they describe this System's bodies
+     * (RigidBodyModel::restoreStates()), else fitted to the restored particles.
+     */
+    void restoreSavedBodies(OpenMM::ContextImpl& context, const SavedBodies& saved, const std::string& source);
+    /**
+     * Run a restore; if it throws, refuse to step (and to read body states) until positions are set
+     * or a restore succeeds: OpenMM has already put the file's positions, velocities, time and box
+     * into the context, and the bodies no longer match them.
+     */
+    void refuseStepsIfRestoreFails(const std::string& source, const std::function<void ()>& restore);
     double coefficientParameters[4];
     bool bodiesInitialized, particlesChanged, ignoreStateChanges, positionsSet, interactionsEnabled;
+    /** What the last refused restore was ("State", "checkpoint"), or empty. */
+    std::string refusedRestore;
+    /** The context's step count when this kernel last left the bodies and particles in agreement. */
+    long long expectedStepCount;
 };
 
 } // namespace RigidLangevinPlugin
