@@ -10,7 +10,7 @@ for a paper. The bent core is our assumption: the middle ellipsoid along x, each
 joined tip to tip with it and turned by BEND (45 degrees, an opening angle of 135 degrees) toward
 +y, all three in the xy plane. That bend makes the ratio of the smallest to the largest
 rotational resistance that of the source's tensor (0.18); no bend of these ellipsoids reproduces
-the source's tensor itself (see banana_scene.py and the README's banana section).
+the source's tensor itself (see banana_scene.py and docs/banana.md).
 
 Each ellipsoid is two particles of half its mass on its axis, +-s from its centre with
 s = sqrt(I_perp/m), which gives it exactly its mass and moments of inertia, and a massless virtual
@@ -329,6 +329,44 @@ def source_size_shell():
         radius *= math.sqrt(count/SOURCE_SHELL_BEADS)
     count = len(hydro.spheroidRoughShellBeads(centers, axes, GB_LENGTH/2, GB_BREADTH/2, radius))
     return radius, count, hydro.spheroidRoughShell(centers, axes, GB_LENGTH/2, GB_BREADTH/2, radius)
+
+
+def source_frame(matrix):
+    """A 6x6 tensor turned from the banana's frame (x long, y bend, z normal) into the source's
+    (z long, y bend, x normal: smallest translational and rotational resistance along z, the
+    centre of resistance displaced along y): a turn by -90 degrees about y. Returns the turned
+    tensor and the 3x3 turn."""
+    turn = np.array([[0, 0, -1], [0, 1, 0], [1, 0, 0]], dtype=float)
+    t = np.zeros((6, 6))
+    t[:3, :3] = t[3:, 3:] = turn
+    return t@matrix@t.T, turn
+
+
+def source_units(viscosity_poise=SOURCE_VISCOSITY):
+    """Elementwise factors that turn a resistance per unit viscosity (OpenMM's units: nm, nm^2,
+    nm^3 for the translational, coupling and rotational blocks) into the friction at
+    viscosity_poise in the units of the source's code (amu/fs, amu A/fs, amu A^2/fs)."""
+    # amu/(nm ps) x nm = amu/ps = 1e-3 amu/fs; x nm^2 (coupling) -> amu A/fs x 10; x nm^3 -> amu A^2/fs x 100.
+    scale = np.ones((6, 6))*1e-3*viscosity_md_units(viscosity_poise)
+    scale[:3, 3:] *= 10
+    scale[3:, :3] *= 10
+    scale[3:, 3:] *= 100
+    return scale
+
+
+def source_resistance_tensor():
+    """The source's own tensor (SOURCE_TENSOR, about SOURCE_CENTER_OF_RESISTANCE) read as the
+    friction at SOURCE_VISCOSITY in the units of its code and in the frame source_frame() says
+    (tensor.md shows why: its numbers are Stokes's law's for an object of a few A at 0.289 cP), as a
+    resistance per unit viscosity in the banana's frame about its centre of mass: the source's
+    banana as this project's integrator would move it."""
+    import rigidlangevin.hydrodynamics as hydro
+    per_viscosity = (SOURCE_TENSOR+SOURCE_TENSOR.T)/2/source_units()  # its 0.0858 and 0.08585 made one
+    _, turn = source_frame(np.eye(6))
+    back = np.zeros((6, 6))
+    back[:3, :3] = back[3:, 3:] = turn.T
+    origin = turn.T@SOURCE_CENTER_OF_RESISTANCE/10  # nm, from the centre of mass
+    return hydro.explicit(back@per_viscosity@back.T, origin)
 
 
 def viscosity_md_units(poise):

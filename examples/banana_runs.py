@@ -23,6 +23,8 @@ import rigidlangevin as rl
 
 TEMPERATURE = ps.TEMPERATURE
 KT = ps.KT
+# The implicit runs: this integrator's two schemes with the tensor, OpenMM's integrator per particle.
+IMPLICIT_SCHEMES = ('ExactFlow', 'BAOAB', 'LangevinMiddle')
 SAMPLE_PS = 0.01  # every 10 fs: the velocity autocorrelation
 COARSE_PS = 0.1  # the lags of msd and cu
 VACF_PS = 2.0

@@ -45,7 +45,7 @@ SOURCE_TABLE = {1.0: (300.47, 10.99), 0.1: (301.19, 11.136), 0.01: (303.04, 11.7
 def water_system(pdb):
     forcefield = app.ForceField('tip3p.xml')
     system = forcefield.createSystem(pdb.topology, nonbondedMethod=app.PME, nonbondedCutoff=0.9*unit.nanometer, rigidWater=True,
-                                     removeCMMotion=False)  # the bath does not conserve momentum: see the README
+                                     removeCMMotion=False)  # the bath does not conserve momentum: see docs/user-guide.md
     box = [mm.Vec3(BOX, 0, 0), mm.Vec3(0, BOX, 0), mm.Vec3(0, 0, BOX)]*unit.nanometer
     system.setDefaultPeriodicBoxVectors(*box)
     return system

@@ -10,8 +10,10 @@ statistical inefficiency of what is left.
 
 Viscosity (Hess, J. Chem. Phys. 116, 209 (2002)): a periodic acceleration a_x(z) = A cos(k z),
 k = 2 pi n / L, drives a steady flow v_x(z) = V cos(k z) with V = A rho / (eta k^2), rho the mass
-density; eta(k) falls with k, so runs at several n are extrapolated to k = 0 by a weighted fit
-eta(k) = eta_0 + c k^2 (extrapolate_to_zero_wavenumber). The integrator is velocity Verlet with
+density; eta(k) falls with k, so runs at several n are extrapolated to k = 0 by weighted fits of
+both common forms, eta(k) = eta_0 + c k^2 (extrapolate_to_zero_wavenumber) and 1/eta(k) = 1/eta_0 +
+a k^2 (extrapolate_inverse_to_zero_wavenumber, GROMACS's), each with its chi-squared's verdict
+(fit_accepted): which is right is not known beforehand. The integrator is velocity Verlet with
 Bussi, Donadio & Parrinello's stochastic velocity rescaling (J. Chem. Phys. 126, 014101 (2007))
 acting on the velocities less the flow profile: a global thermostat that takes out the heat the
 flow makes without damping any particle's motion, unlike a Langevin thermostat, whose friction
@@ -200,35 +202,68 @@ def viscosity_from_flow(amplitude, density, wavenumber, flow, flow_error):
     return eta, eta*flow_error/abs(flow)
 
 
-def extrapolate_to_zero_wavenumber(wavenumbers, etas, errors):
-    """Weighted least-squares line eta(k) = eta_0 + c k^2 through viscosities at several
-    wavenumbers (1/nm) with standard errors: returns (eta_0, its standard error, c, its standard
-    error, chi-squared of the fit). The errors are the inputs' own; chi-squared tells whether the
-    line describes the points (about the number of points less two if it does)."""
-    k2 = np.asarray(wavenumbers, dtype=float)**2
-    etas, errors = np.asarray(etas, dtype=float), np.asarray(errors, dtype=float)
-    if len(k2) < 2 or len(set(k2)) < 2:
+def weighted_line(x, y, errors):
+    """Weighted least-squares line y = a + b x through points with standard errors: returns (a, its
+    standard error, b, its standard error, chi-squared of the fit). The errors are the inputs' own;
+    chi-squared tells whether the line describes the points (about the number of points less two if
+    it does)."""
+    x, y, errors = (np.asarray(v, dtype=float) for v in (x, y, errors))
+    if len(x) < 2 or len(set(x)) < 2:
         raise ValueError('extrapolating to k = 0 needs viscosities at two wavenumbers at least')
-    design = np.stack([np.ones_like(k2), k2], axis=1)/errors[:, None]
+    design = np.stack([np.ones_like(x), x], axis=1)/errors[:, None]
     covariance = np.linalg.inv(design.T@design)
-    coefficients = covariance@design.T@(etas/errors)
-    chi2 = float(np.sum(((design@coefficients)-etas/errors)**2))
+    coefficients = covariance@design.T@(y/errors)
+    chi2 = float(np.sum(((design@coefficients)-y/errors)**2))
     return (float(coefficients[0]), float(math.sqrt(covariance[0, 0])), float(coefficients[1]), float(math.sqrt(covariance[1, 1])), chi2)
+
+
+def extrapolate_to_zero_wavenumber(wavenumbers, etas, errors):
+    """The line eta(k) = eta_0 + c k^2 through viscosities at several wavenumbers (1/nm) with
+    standard errors (weighted_line): returns (eta_0, its standard error, c, its standard error,
+    chi-squared)."""
+    return weighted_line(np.asarray(wavenumbers, dtype=float)**2, etas, errors)
+
+
+def extrapolate_inverse_to_zero_wavenumber(wavenumbers, etas, errors):
+    """The other common form: 1/eta(k) = 1/eta_0 + a k^2, which GROMACS's gmx tcaf prescribes
+    (eta(k) = eta_0 (1 - a eta(k) k^2)); a weighted line through 1/eta with standard errors
+    error/eta^2 (first order in the relative errors). Returns (eta_0, its standard error, a, its
+    standard error, chi-squared); eta_0's error is the intercept's, error(1/eta_0) eta_0^2."""
+    etas, errors = np.asarray(etas, dtype=float), np.asarray(errors, dtype=float)
+    inverse, inverse_error, slope, slope_error, chi2 = weighted_line(np.asarray(wavenumbers, dtype=float)**2, 1/etas, errors/etas**2)
+    return 1/inverse, inverse_error/inverse**2, slope, slope_error, chi2
+
+
+def fit_accepted(chi2, degrees_of_freedom, level=0.05):
+    """Whether a fit's chi-squared is no worse than chance would give with probability level: its
+    survival probability (the chance of a chi-squared at least this large if the form were right)
+    and whether it is at least level. Without a degree of freedom a fit cannot be tested: (nan, True)."""
+    if degrees_of_freedom < 1:
+        return float('nan'), True
+    from scipy.stats import chi2 as distribution
+    probability = float(distribution.sf(chi2, degrees_of_freedom))
+    return probability, probability >= level
 
 
 def extrapolations_by_shear_rate(viscosities):
     """The extrapolations to k = 0 of viscosities measured at several harmonics n, one per shear
     rate: a harmonic's flow speed V is set so that n V, and with it the shear rate k V, is shared by
     the harmonics of one series. viscosities: dicts with 'harmonic', 'speed', 'wavenumber', 'eta',
-    'error'. Returns {n V: dict(eta0, error, slope, slope_error, chi2, fitted=[the viscosities])}
-    over the rates with two harmonics or more."""
+    'error'. Returns {n V: dict(eta0, error, slope, slope_error, chi2, probability, accepted,
+    inverse=the same of the 1/eta form, fitted=[the viscosities])} over the rates with two harmonics
+    or more: eta linear in k^2 (extrapolate_to_zero_wavenumber), and in inverse 1/eta linear
+    (extrapolate_inverse_to_zero_wavenumber), each with its chi-squared's probability and whether
+    that accepts it (fit_accepted)."""
     fits = {}
     for rate in sorted({round(v['harmonic']*v['speed'], 9) for v in viscosities}):
         group = sorted((v for v in viscosities if abs(v['harmonic']*v['speed']-rate) < 1e-9), key=lambda v: v['harmonic'])
         if len({v['harmonic'] for v in group}) >= 2:
-            eta0, error, slope, slope_error, chi2 = extrapolate_to_zero_wavenumber(
-                [v['wavenumber'] for v in group], [v['eta'] for v in group], [v['error'] for v in group])
-            fits[rate] = dict(eta0=eta0, error=error, slope=slope, slope_error=slope_error, chi2=chi2, fitted=group)
+            points = ([v['wavenumber'] for v in group], [v['eta'] for v in group], [v['error'] for v in group])
+            forms = [dict(zip(('eta0', 'error', 'slope', 'slope_error', 'chi2'), fit(*points)))
+                     for fit in (extrapolate_to_zero_wavenumber, extrapolate_inverse_to_zero_wavenumber)]
+            for form in forms:
+                form['probability'], form['accepted'] = fit_accepted(form['chi2'], len(group)-2)
+            fits[rate] = dict(forms[0], inverse=forms[1], fitted=group)
     return fits
 
 

@@ -209,7 +209,7 @@ def test_water_without_any_constraints_runs_as_bodies(model):
 
 
 def test_lone_body_from_create_system_diffuses_and_a_motion_remover_is_refused():
-    # The README's protein recipe with one body: createSystem's default CMMotionRemover would hold
+    # The user guide's protein recipe with one body: createSystem's default CMMotionRemover would hold
     # it still (translational temperature 0 K, no diffusion); with friction it is refused, naming
     # the fix, and with removeCMMotion=False the body's translation is the bath's.
     pdb = app.PDBFile(io.StringIO(

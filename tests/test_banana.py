@@ -545,21 +545,22 @@ def test_report_says_which_errors_reach_their_targets():
     # the finite-size corrected D_t; 3% implicit) and, for the others, the replicas the spread so
     # far asks for: n (error/target)^2, rounded up (a square root instead of the square, or the
     # explicit target on an implicit run, would give another count).
-    import banana_scene
+    import banana_report
 
     def row(run, replicas, d_t, d_t_error, d_r, d_r_error):
         return {'run': run, 'replicas': replicas, 'D_t (1e-5 cm^2/s)': d_t, 'D_t error': d_t_error,
                 'D_r (1/ns)': d_r, 'D_r error': d_r_error, 'ns/day': 1.0}
     rows = [row('explicit', 5, 3.0, 0.9, 4.0, 0.5),  # the periodic box's D_t: not the one the target is on
-            row('explicit, finite-size corrected', 5, 4.0, 0.19, 4.0, 0.5),
+            row('explicit, finite-size corrected (eta linear in k^2)', 5, 4.0, 0.19, 4.0, 0.5),
+            row('explicit, finite-size corrected (1/eta linear in k^2)', 5, 3.9, 0.19, 4.0, 0.5),  # its D_r said once
             row('ExactFlow', 12, 1.0, 0.03, 1.0, 0.031)]
-    sentence = banana_scene.target_errors(rows)
+    sentence = banana_report.target_errors(rows)
     assert 'explicit D_r 12.5% (about 32 replicas' in sentence and 'ExactFlow D_r 3.1% (about 13 replicas' in sentence
-    assert 'explicit D_t' not in sentence and 'ExactFlow D_t' not in sentence
-    rows[1]['D_r error'] = rows[2]['D_r error'] = 0.02
-    assert banana_scene.target_errors(rows).endswith('Every one reached.')
-    rows[2]['replicas'], rows[2]['D_t error'] = 1, float('nan')  # one replica: no spread, no error yet
-    assert 'ExactFlow D_t nan% (about 2 replicas' in banana_scene.target_errors(rows)
+    assert 'explicit D_t' not in sentence and 'ExactFlow D_t' not in sentence and sentence.count('explicit D_r') == 1
+    rows[1]['D_r error'] = rows[2]['D_r error'] = rows[3]['D_r error'] = 0.02
+    assert banana_report.target_errors(rows).endswith('Every one reached.')
+    rows[3]['replicas'], rows[3]['D_t error'] = 1, float('nan')  # one replica: no spread, no error yet
+    assert 'ExactFlow D_t nan% (about 2 replicas' in banana_report.target_errors(rows)
 
 
 def test_jackknife_error_of_a_mean_is_its_standard_error():
@@ -567,11 +568,64 @@ def test_jackknife_error_of_a_mean_is_its_standard_error():
     # off at n = 9, the left-out means' own spread a factor 3 small); and for a
     # difference of two correlated quantities' means, the standard error of the per-replica
     # differences, which the two errors combined as if independent would overstate.
-    import banana_scene
+    import banana_report
     rng = np.random.default_rng(5)
     a = rng.normal(size=9)
     b = a+0.1*rng.normal(size=9)
-    assert banana_scene.jackknife_error(np.mean, a) == pytest.approx(a.std(ddof=1)/3, rel=1e-12)
-    difference = banana_scene.jackknife_error(lambda x, y: y.mean()-x.mean(), a, b)
+    assert banana_report.jackknife_error(np.mean, a) == pytest.approx(a.std(ddof=1)/3, rel=1e-12)
+    difference = banana_report.jackknife_error(lambda x, y: y.mean()-x.mean(), a, b)
     assert difference == pytest.approx((b-a).std(ddof=1)/3, rel=1e-12)
     assert difference < 0.2*math.hypot(a.std(ddof=1), b.std(ddof=1))/3
+
+
+def test_source_tensor_read_in_its_own_units():
+    # The source's tensor as this project reads it (amu/fs, amu A/fs, amu A^2/fs at 0.289 cP, about
+    # its centre of resistance, z along the banana): turned back into the source's frame and units
+    # it is the source's matrix again, about the source's centre of resistance; and the diffusion it
+    # predicts is kT Xi^-1 computed here in the source's own units (amu, A, fs) with no turn or unit
+    # change at all: D_r, the tumbling of the long axis (the mobility's x and y rotations in the
+    # source's frame; rotation's block of Xi^-1 is the same about any point), exactly; D_t, a third
+    # of the trace of the translational mobility, smallest at the centre of diffusion, at most 0.2%
+    # below its value at the centre of resistance. A factor of 10 in a unit, or the wrong axis
+    # tumbling (58.64 against 10.74 amu A^2/fs), would be far off.
+    import banana_runs as runs
+    xi = bm.source_resistance_tensor()
+    _, turn = bm.source_frame(np.eye(6))
+    stated = turn.T@bm.SOURCE_CENTER_OF_RESISTANCE/10  # nm, in the banana's frame
+    turned, _ = bm.source_frame(np.array(xi.getMatrix(mm.Vec3(*stated)))*bm.source_units())
+    symmetric = (bm.SOURCE_TENSOR+bm.SOURCE_TENSOR.T)/2
+    assert np.allclose(turned, symmetric, rtol=0, atol=1e-12*np.abs(symmetric).max())
+    # The point where its coupling block is symmetric is the one it states, to the 4 digits it gives.
+    center = np.array(xi.getCenterOfResistance().value_in_unit(mm.unit.nanometer))
+    assert np.allclose(turn@center*10, bm.SOURCE_CENTER_OF_RESISTANCE, atol=1e-4)
+    d_t, d_r = runs.predicted_diffusion(xi, bm.SOURCE_VISCOSITY)
+    kt = 1.380649e-23*runs.TEMPERATURE/(1.66053906660e-27*1e-20/1e-30)  # amu A^2/fs^2
+    mobility = kt*np.linalg.inv(symmetric)  # A^2/fs, A/fs, 1/fs
+    assert d_r*1e-3 == pytest.approx((mobility[3, 3]+mobility[4, 4])/2, rel=1e-10)  # 1/ps to 1/fs
+    at_center_of_resistance = np.trace(mobility[:3, :3])/3*1e-2/1e-3  # A^2/fs to nm^2/ps
+    assert 0.998*at_center_of_resistance < d_t <= at_center_of_resistance*(1+1e-12)
+
+
+def test_velocity_autocorrelations_compared_at_their_lags():
+    # diffusion.md's table of normalised velocity autocorrelations reads each curve at its lag in
+    # SAMPLE_PS steps (at COARSE_PS steps 0.1 ps would read 1 ps), normalised per replica, and the
+    # smallest difference from the explicit curve is in the two standard errors combined: a curve
+    # identical to the explicit one is 0 apart, and one shifted by 0.05 whose replicas scatter like
+    # the explicit ones (standard error 0.01 each) is 0.05/(0.01 sqrt 2) = 3.5 apart.
+    import banana_report
+    import banana_runs as runs
+
+    class Stage:
+        def __init__(self, curves):
+            self.curves = curves
+
+        def runs(self):
+            return [(i, {'vacf': c}) for i, c in enumerate(self.curves)]
+    t = np.arange(int(round(runs.VACF_PS/runs.SAMPLE_PS))+1)*runs.SAMPLE_PS
+    explicit = [np.exp(-t/0.2)+s*(t > 0) for s in (-0.01, 0.01)]  # two replicas: standard error 0.01 at t > 0
+    shifted = [3*(c+0.05*(t > 0)) for c in explicit]  # scaled: the table normalises each replica at t = 0
+    lines = banana_report.vacf_lines({'explicit': Stage(explicit), 'same': Stage(explicit), 'shifted': Stage(shifted)})
+    row = next(line for line in lines if line.startswith('| 0.1 |'))
+    assert row.split(' | ')[1:3] == [f'{math.exp(-0.5):.4f} ± 0.0100', f'{math.exp(-0.5):.4f} ± 0.0100']
+    assert row.split(' | ')[3] == f'{math.exp(-0.5)+0.05:.4f} ± 0.0100 |'
+    assert lines[-1].endswith(f'same 0.0, shifted {0.05/(0.01*math.sqrt(2)):.1f}.')

@@ -385,7 +385,7 @@ def test_calibration_scales_the_coupling_of_distant_bodies():
     coupling by T^-1 on each side: for spheres of radius a by a_eff/a, a_eff the radius their
     blobs' own friction gives (6 pi eta a_eff). Shells of 65, 136 and 284 blobs on the surface:
     a_eff/a = 1.036, 1.026, 1.018, and the calibrated coupling 3.6%, 2.6%, 1.8% too strong,
-    shrinking as the blobs resolve the sphere (the README and CoupledResistance say so). The same
+    shrinking as the blobs resolve the sphere (docs/hydrodynamic-interactions.md and CoupledResistance say so). The same
     shells scaled to the sphere's friction (scaleBlobsToFriction) couple by Oseen's tensor to the
     tiling's anisotropy (0.1%)."""
     a, distance = 1.0, 1000.0

@@ -177,6 +177,45 @@ def test_extrapolation_to_zero_wavenumber():
         ps.extrapolate_to_zero_wavenumber([1.5, 1.5], [0.2, 0.21], [0.01, 0.01])
 
 
+def test_inverse_extrapolation_to_zero_wavenumber():
+    # GROMACS's form, 1/eta(k) = 1/eta_0 + a k^2: points exactly on it give eta_0 and a exactly (a fit
+    # of eta, or an intercept not inverted, would not), with eta_0's error the intercept's times
+    # eta_0^2; noisy points scatter eta_0 by the error it states (without the factor eta_0^2 it would
+    # be 25 times too small here).
+    k = np.array([1.6, 3.2, 4.8])
+    eta0, a = 0.2, 0.4  # cP, 1/(cP nm^2)
+    exact = 1/(1/eta0+a*k**2)
+    errors = np.array([0.004, 0.004, 0.003])
+    fit = ps.extrapolate_inverse_to_zero_wavenumber(k, exact, errors)
+    assert fit[0] == pytest.approx(eta0, rel=1e-12) and fit[2] == pytest.approx(a, rel=1e-10) and fit[4] < 1e-20
+    intercept_error = ps.weighted_line(k**2, 1/exact, errors/exact**2)[1]
+    assert fit[1] == pytest.approx(intercept_error*eta0**2, rel=1e-12)
+    rng = np.random.default_rng(9)
+    fits = np.array([ps.extrapolate_inverse_to_zero_wavenumber(k, exact+rng.normal(0, 0.1*errors), 0.1*errors) for _ in range(2000)])
+    assert np.std(fits[:, 0]) == pytest.approx(fits[0, 1], rel=0.1)
+    assert np.mean(fits[:, 4]) == pytest.approx(1.0, rel=0.15)
+
+
+def test_chi_squared_rejects_the_wrong_form():
+    # Points exactly linear in 1/eta, curved in eta by many of their errors: the eta-linear fit's
+    # chi-squared rejects it, the 1/eta fit is accepted; and the other way round. The probability is
+    # chi-squared's survival function (5% at its 95th percentiles, 3.841 for one degree of freedom and
+    # 5.991 for two: a wrong number of degrees of freedom would move it).
+    k = np.array([1.6, 3.2, 4.8])
+    errors = np.full(3, 0.001)
+    inverse_linear = 1/(1/0.2+0.4*k**2)
+    eta_linear = 0.2-0.003*k**2
+    for points, right, wrong in ((inverse_linear, ps.extrapolate_inverse_to_zero_wavenumber, ps.extrapolate_to_zero_wavenumber),
+                                 (eta_linear, ps.extrapolate_to_zero_wavenumber, ps.extrapolate_inverse_to_zero_wavenumber)):
+        assert ps.fit_accepted(right(k, points, errors)[4], 1)[1]
+        chi2 = wrong(k, points, errors)[4]
+        assert chi2 > 20 and ps.fit_accepted(chi2, 1) == (pytest.approx(0.0, abs=1e-5), False)
+    assert ps.fit_accepted(3.841458820694124, 1)[0] == pytest.approx(0.05, rel=1e-9)
+    assert ps.fit_accepted(5.991464547107979, 2)[0] == pytest.approx(0.05, rel=1e-9)
+    assert ps.fit_accepted(4.26, 1)[1] is False and ps.fit_accepted(3.0, 1)[1] is True
+    assert ps.fit_accepted(7.0, 0)[1] is True  # two points: nothing to test
+
+
 def test_extrapolations_by_shear_rate_and_the_newtonian_choice():
     # Viscosities on exact lines in k^2, one per shear rate n V, whose intercepts fall with the rate
     # (shear thinning): each rate's line is recovered from its own harmonics only; the Newtonian
@@ -191,6 +230,14 @@ def test_extrapolations_by_shear_rate_and_the_newtonian_choice():
     for rate, eta0 in ((0.05, 0.175), (0.025, 0.2), (0.0125, 0.21)):
         assert fits[rate]['eta0'] == pytest.approx(eta0, rel=1e-10) and fits[rate]['slope'] == pytest.approx(-0.003, rel=1e-8)
     assert [v['harmonic'] for v in fits[0.025]['fitted']] == [1, 2, 3]
+    # Beside each line in eta, the line in 1/eta through the same points, each with its verdict: the
+    # exact lines in eta are accepted, and their curvature in 1/eta is rejected (chi-squared 5.4 for
+    # one degree of freedom).
+    group = fits[0.025]['fitted']
+    inverse = ps.extrapolate_inverse_to_zero_wavenumber([v['wavenumber'] for v in group], [v['eta'] for v in group], [0.002]*3)
+    assert [fits[0.025]['inverse'][key] for key in ('eta0', 'error', 'slope', 'slope_error', 'chi2')] == list(inverse)
+    assert fits[0.025]['inverse']['chi2'] == pytest.approx(5.44, abs=0.01) and not fits[0.025]['inverse']['accepted']
+    assert fits[0.025]['accepted'] and fits[0.025]['chi2'] < 1e-20
     assert ps.newtonian_rate(fits) == 0.025
     assert ps.newtonian_rate(ps.extrapolations_by_shear_rate(series(0.05, (1, 2, 3), 0.175)+series(0.025, (1,), 0.2))) == 0.05
     assert ps.newtonian_rate(ps.extrapolations_by_shear_rate(series(0.05, (1, 2), 0.175)+series(0.025, (2, 3), 0.2))) == 0.05

@@ -1,6 +1,6 @@
 // The hydrodynamics library alone, without the integrator or a Context: the translational
 // diffusion constant of a water-sized sphere and of a prolate spheroid in water at 300 K, from
-// their resistance tensors. Build against libRigidLangevinHydrodynamics and libOpenMM (see the README).
+// their resistance tensors. Build against libRigidLangevinHydrodynamics and libOpenMM (see docs/install.md).
 #include "ResistanceTensor.h"
 #include <cmath>
 #include <cstdio>
