@@ -143,6 +143,11 @@ public:
         BAOAB = 1,
         Original = 2
     };
+    enum HydrodynamicSolver {
+        AutomaticSolver = 0,
+        DenseSolver = 1,
+        KrylovSolver = 2
+    };
     RigidLangevinIntegrator(double temperature, double viscosity, double stepSize);
     double getTemperature() const;
     void setTemperature(double temp);
@@ -163,6 +168,12 @@ public:
     void setHydrodynamicInteractions(bool enabled);
     bool getHydrodynamicInteractions() const;
     std::vector<int> getKrylovIterations() const;
+    void setHydrodynamicSolver(HydrodynamicSolver solver);
+    HydrodynamicSolver getHydrodynamicSolver() const;
+    void setHydrodynamicTolerance(double tolerance);
+    double getHydrodynamicTolerance() const;
+    void setKrylovMinBlobs(int blobs);
+    int getKrylovMinBlobs() const;
     void setBodyBlobs(int index, const std::vector<Vec3>& blobPositions, const std::vector<double>& blobRadii,
                       const std::vector<Vec3>& referencePositions);
     void clearBodyBlobs(int index);

@@ -207,7 +207,7 @@ TEST_P(StateAndSystem, SerializationRoundTrip) {
     // Version 2 (before hydrodynamic interactions) reads as without them; an unknown version is refused.
     auto withVersion = [&](const std::string& version) {
         std::string text = xml;
-        size_t at = text.find("version=\"3\"");
+        size_t at = text.find("version=\"4\"");
         EXPECT_NE(std::string::npos, at);
         text.replace(at, 11, "version=\""+version+"\"");
         at = text.find(" hydrodynamicInteractions=\"1\"");
@@ -217,8 +217,8 @@ TEST_P(StateAndSystem, SerializationRoundTrip) {
     std::stringstream version2(withVersion("2"));
     std::unique_ptr<Integrator> old(XmlSerializer::deserialize<Integrator>(version2));
     EXPECT_FALSE(dynamic_cast<RigidLangevinIntegrator&>(*old).getHydrodynamicInteractions());
-    std::stringstream version4(withVersion("4"));
-    EXPECT_THROW(XmlSerializer::deserialize<Integrator>(version4), OpenMMException);
+    std::stringstream version5(withVersion("5"));
+    EXPECT_THROW(XmlSerializer::deserialize<Integrator>(version5), OpenMMException);
 }
 
 TEST_P(StateAndSystem, StateRestoresBodiesExactly) {

@@ -218,7 +218,8 @@ public:
      * friction is recomputed every step, on every platform, in double precision: dense on
      * Reference (Cholesky; cost (3B)^3/3 for B blobs in all), and on CPU, OpenCL and CUDA from 100
      * blobs matrix-free (conjugate gradients for the friction, Lanczos for the noise, each
-     * preconditioned by every body's own blocks, to a relative residual of 1e-10; a solve that
+     * preconditioned by every body's own blocks, to the relative residual of
+     * setHydrodynamicTolerance(); setHydrodynamicSolver() and setKrylovMinBlobs() choose; a solve that
      * does not converge throws; in a periodic box with the Ewald-summed mobility formed once a
      * step), dense below that. On OpenCL and CUDA the coupled step is taken on the host, the blobs'
      * mobility products of the Krylov solves in an unbounded solvent on the device (a tiled kernel,
@@ -250,6 +251,46 @@ public:
     /** Get whether bodies are coupled through the solvent (setHydrodynamicInteractions()). */
     bool getHydrodynamicInteractions() const {
         return hydrodynamicInteractions;
+    }
+    /** How the coupled friction of hydrodynamic interactions is solved (setHydrodynamicSolver()). */
+    enum HydrodynamicSolver {
+        /** Dense below getKrylovMinBlobs() blobs, matrix-free from there (dense on Reference at the default). */
+        AutomaticSolver = 0,
+        /** Form and factorise the bodies' coupled resistance (Cholesky): cost (3B)^3/3 for B blobs. */
+        DenseSolver = 1,
+        /** Matrix-free: conjugate gradients and Lanczos with products of the blobs' mobility. */
+        KrylovSolver = 2
+    };
+    /**
+     * Set how the coupled friction of hydrodynamic interactions is solved (the default is
+     * AutomaticSolver). Takes effect at the next step. (The environment variable
+     * RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER, dense or krylov, overrides it on every platform but
+     * Reference; it is there for the tests, which run both paths on small systems.)
+     */
+    void setHydrodynamicSolver(HydrodynamicSolver solver);
+    HydrodynamicSolver getHydrodynamicSolver() const {
+        return hydrodynamicSolver;
+    }
+    /**
+     * Set the relative residual at which the matrix-free solves of the coupled friction stop
+     * (conjugate gradients: |b - A x| <= tolerance |b|; Lanczos: two successive estimates of M^1/2 w
+     * within tolerance), between 1e-12 (what double precision reaches reliably) and 0.1. The
+     * friction and noise are wrong by about the tolerance, relative; see the README's speed-against-
+     * error study for what that does to what users measure. Takes effect at the next step.
+     */
+    void setHydrodynamicTolerance(double tolerance);
+    double getHydrodynamicTolerance() const {
+        return hydrodynamicTolerance;
+    }
+    /**
+     * Set the number of blobs from which AutomaticSolver solves matrix-free (dense below), or -1 for
+     * the platform's default: 100 on CPU, OpenCL and CUDA, where the matrix-free step is already the
+     * faster (benchmarks/platforms/hydrodynamic_interactions.py); never on Reference, whose dense,
+     * exact step is the definition of correct. Takes effect at the next step.
+     */
+    void setKrylovMinBlobs(int blobs);
+    int getKrylovMinBlobs() const {
+        return krylovMinBlobs;
     }
     /**
      * Give a body the hydrodynamic blobs through which it feels other bodies when hydrodynamic
@@ -391,6 +432,9 @@ private:
     int randomNumberSeed;
     Scheme scheme;
     bool hydrodynamicInteractions;
+    HydrodynamicSolver hydrodynamicSolver;
+    double hydrodynamicTolerance;
+    int krylovMinBlobs;
     std::vector<std::vector<int> > bodies;
     std::map<int, BodyResistance> resistances;
     std::map<int, BodyBlobs> blobs;

@@ -18,7 +18,8 @@ using std::string;
 using std::vector;
 
 RigidLangevinIntegrator::RigidLangevinIntegrator(double temperature, double viscosity, double stepSize) :
-        temperature(0), viscosity(0), randomNumberSeed(0), scheme(ExactFlow), hydrodynamicInteractions(false) {
+        temperature(0), viscosity(0), randomNumberSeed(0), scheme(ExactFlow), hydrodynamicInteractions(false), hydrodynamicSolver(AutomaticSolver),
+        hydrodynamicTolerance(1e-10), krylovMinBlobs(-1) {
     setTemperature(temperature);
     setViscosity(viscosity);
     if (!(stepSize > 0) || !std::isfinite(stepSize))
@@ -141,6 +142,27 @@ void RigidLangevinIntegrator::clearBodyResistance(int index) {
 void RigidLangevinIntegrator::setHydrodynamicInteractions(bool enabled) {
     checkNotBound("setHydrodynamicInteractions");
     hydrodynamicInteractions = enabled;
+}
+
+void RigidLangevinIntegrator::setHydrodynamicSolver(HydrodynamicSolver solver) {
+    if (solver != AutomaticSolver && solver != DenseSolver && solver != KrylovSolver)
+        throw OpenMMException("RigidLangevinIntegrator::setHydrodynamicSolver: unknown solver "+std::to_string((int) solver)+
+                "; use AutomaticSolver (0), DenseSolver (1) or KrylovSolver (2)");
+    hydrodynamicSolver = solver;
+}
+
+void RigidLangevinIntegrator::setHydrodynamicTolerance(double tolerance) {
+    if (!(tolerance >= 1e-12 && tolerance <= 0.1))
+        throw OpenMMException("RigidLangevinIntegrator::setHydrodynamicTolerance: the tolerance is "+std::to_string(tolerance)+"; it must lie "
+                "between 1e-12 (what the solves in double precision reach reliably) and 0.1");
+    hydrodynamicTolerance = tolerance;
+}
+
+void RigidLangevinIntegrator::setKrylovMinBlobs(int blobs) {
+    if (blobs < -1)
+        throw OpenMMException("RigidLangevinIntegrator::setKrylovMinBlobs: "+std::to_string(blobs)+" blobs; give a number of blobs, or -1 for the "
+                "platform's default");
+    krylovMinBlobs = blobs;
 }
 
 void RigidLangevinIntegrator::setBodyBlobs(int index, const vector<Vec3>& blobPositions, const vector<double>& blobRadii, const vector<Vec3>& referencePositions) {

@@ -19,8 +19,10 @@ const SerializationNode* findChild(const SerializationNode& node, const std::str
 
 /** 2: an explicit tensor comes with the positions of the body's particles it belongs to.
  *  3: hydrodynamic interactions (on or off) and bodies' explicit blobs. Version 2 is read as
- *     without interactions and blobs, which is what it described. */
-const int Version = 3;
+ *     without interactions and blobs, which is what it described.
+ *  4: the hydrodynamic solver, its tolerance and the size from which it is matrix-free. Versions 2
+ *     and 3 are read with the defaults, which is what they ran with. */
+const int Version = 4;
 
 SerializationNode& writePosition(SerializationNode& node, const Vec3& r) {
     return node.setDoubleProperty("x", r[0]).setDoubleProperty("y", r[1]).setDoubleProperty("z", r[2]);
@@ -72,6 +74,9 @@ void RigidLangevinIntegratorProxy::serialize(const void* object, SerializationNo
         }
     }
     node.setBoolProperty("hydrodynamicInteractions", integrator.getHydrodynamicInteractions());
+    node.setIntProperty("hydrodynamicSolver", integrator.getHydrodynamicSolver());
+    node.setDoubleProperty("hydrodynamicTolerance", integrator.getHydrodynamicTolerance());
+    node.setIntProperty("krylovMinBlobs", integrator.getKrylovMinBlobs());
     SerializationNode& radii = node.createChildNode("Radii");
     for (auto& r : integrator.getParticleRadii())
         radii.createChildNode("Particle").setIntProperty("index", r.first).setDoubleProperty("radius", r.second);
@@ -79,8 +84,8 @@ void RigidLangevinIntegratorProxy::serialize(const void* object, SerializationNo
 
 void* RigidLangevinIntegratorProxy::deserialize(const SerializationNode& node) const {
     int version = node.getIntProperty("version");
-    if (version != Version && version != 2)
-        throw OpenMMException("RigidLangevinIntegratorProxy: unsupported version number "+std::to_string(version)+" (this plugin reads 2 and "+
+    if (version < 2 || version > Version)
+        throw OpenMMException("RigidLangevinIntegratorProxy: unsupported version number "+std::to_string(version)+" (this plugin reads 2 to "+
                 std::to_string(Version)+"; version 1 tied explicit tensors to whatever positions a Context first had)");
     std::unique_ptr<RigidLangevinIntegrator> integrator(new RigidLangevinIntegrator(node.getDoubleProperty("temperature"),
             node.getDoubleProperty("viscosity"), node.getDoubleProperty("stepSize")));
@@ -124,6 +129,11 @@ void* RigidLangevinIntegratorProxy::deserialize(const SerializationNode& node) c
     }
     if (version >= 3)
         integrator->setHydrodynamicInteractions(node.getBoolProperty("hydrodynamicInteractions"));
+    if (version >= 4) {
+        integrator->setHydrodynamicSolver((RigidLangevinIntegrator::HydrodynamicSolver) node.getIntProperty("hydrodynamicSolver"));
+        integrator->setHydrodynamicTolerance(node.getDoubleProperty("hydrodynamicTolerance"));
+        integrator->setKrylovMinBlobs(node.getIntProperty("krylovMinBlobs"));
+    }
     for (const SerializationNode& r : node.getChildNode("Radii").getChildren())
         integrator->setParticleRadius(r.getIntProperty("index"), r.getDoubleProperty("radius"));
     return integrator.release();

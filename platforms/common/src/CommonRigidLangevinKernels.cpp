@@ -468,7 +468,7 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
     const RigidLangevinIntegrator::Scheme scheme = integrator.getScheme();
     const bool frictionless = (integrator.getViscosity() == 0);
     if (numBodies > 0 && interactions && !frictionless)
-        takeCoupledStep(context, integrator, removeMotion);
+        advanceCoupledBodies(context, integrator);  // no motion to remove: a CMMotionRemover is refused with friction
     else if (numBodies > 0) {
         if (removeMotion) {
             setMixedArg(centerOfMassKernel, 1, 1.0/model->getTotalMass(), mixedIsDouble);
@@ -503,38 +503,11 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
     cc.reorderAtoms();
 }
 
-void CommonIntegrateRigidLangevinStepKernel::takeCoupledStep(ContextImpl& context, const RigidLangevinIntegrator& integrator, bool removeMotion) {
-    const double h = integrator.getStepSize();
+void CommonIntegrateRigidLangevinStepKernel::advanceCoupledBodies(ContextImpl& context, const RigidLangevinIntegrator& integrator) {
     vector<BodyState> states;
     downloadBodyStates(context, states);
     vector<Vec3> forces;
     context.getForces(forces);
-    Vec3 centerOfMassVelocity;
-    if (removeMotion) {
-        for (int b = 0; b < numBodies; b++)
-            centerOfMassVelocity += states[b].velocity*model->getType(model->getBodyType(b)).mass;
-        centerOfMassVelocity /= model->getTotalMass();
-    }
-    for (int b = 0; b < numBodies; b++) {
-        const BodyType& type = model->getType(model->getBodyType(b));
-        BodyState& s = states[b];
-        // Orthonormal again in double precision (single precision stores the rotation rounded).
-        Vec3 row0(s.rotation[0][0], s.rotation[0][1], s.rotation[0][2]), row1(s.rotation[1][0], s.rotation[1][1], s.rotation[1][2]);
-        row0 /= std::sqrt(row0.dot(row0));
-        row1 -= row0*row0.dot(row1);
-        row1 /= std::sqrt(row1.dot(row1));
-        Vec3 row2 = row0.cross(row1);
-        for (int j = 0; j < 3; j++) {
-            s.rotation[0][j] = row0[j];
-            s.rotation[1][j] = row1[j];
-            s.rotation[2][j] = row2[j];
-        }
-        s.velocity -= centerOfMassVelocity;
-        Vec3 force, torque;
-        BodyDynamics::gatherForce(type, model->getBodyParticles(b), s, forces, force, torque);
-        BodyDynamics::kick(s, type, force, torque, h);
-        BodyDynamics::drift(s, type, 0.5*h);
-    }
     if (!blobMobility)
         blobMobility.reset(new CommonBlobMobility(cc));
     // Four normal numbers per counter, the counters apart from the step kernels' (their draw index
@@ -542,14 +515,12 @@ void CommonIntegrateRigidLangevinStepKernel::takeCoupledStep(ContextImpl& contex
     const unsigned int CoupledDraw = 0x48490000u;
     int drawn = 0;
     float normals[4];
-    coupledFrictionStep(context, integrator, states, [&] () {
+    takeCoupledStep(context, integrator, states, forces, [&] () {
         if (drawn%4 == 0)
             normalFloat4(randomSeed, drawn/4, CoupledDraw, randomStep, normals);
         return (double) normals[drawn++%4];
-    }, *blobMobility);
+    }, *blobMobility, KrylovSolvers::sequentially);
     randomStep++;
-    for (int b = 0; b < numBodies; b++)
-        BodyDynamics::drift(states[b], model->getType(model->getBodyType(b)), 0.5*h);
     uploadBodyStates(context, states);
 }
 

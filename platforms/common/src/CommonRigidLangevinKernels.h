@@ -26,7 +26,7 @@ namespace RigidLangevinPlugin {
  *
  * With hydrodynamic interactions (and friction) a step couples all bodies at once: the bodies'
  * states and the forces are read back, and the step is the host's in double precision
- * (RigidLangevinStepKernelBase::coupledFrictionStep), with the products of the blobs' mobility of
+ * (RigidLangevinStepKernelBase::takeCoupledStep), with the products of the blobs' mobility of
  * its Krylov solves on the device (CommonBlobMobility) and its normal numbers from the same
  * counter-based generator, keyed by the seed and randomStep.
  *
@@ -51,12 +51,12 @@ protected:
     /** As on the CPU. On an H200 (benchmarks/platforms/results/gpu_h200/hydrodynamic_interactions.csv)
      *  the crossover depends on the bodies' shapes: dense is faster at 120 blobs of four-blob bodies,
      *  Krylov at 50 single spheres; 100 is within 1.5 times of the faster at every size measured. */
-    int getKrylovMinBlobs() const {
+    int getDefaultKrylovMinBlobs() const {
         return 100;
     }
 private:
-    /** A step of bodies coupled through the solvent (see the class description). */
-    void takeCoupledStep(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, bool removeMotion);
+    /** With hydrodynamic interactions: the coupled step of all bodies (takeCoupledStep) on the host, the mobility products on the device. */
+    void advanceCoupledBodies(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator);
     std::unique_ptr<CommonBlobMobility> blobMobility;
     class AtomOrderListener;
     /** Find where each body particle is stored now, and its periodic cell offset. */

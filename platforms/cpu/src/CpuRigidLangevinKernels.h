@@ -37,11 +37,11 @@ public:
     /**
      * From this many blobs the coupled friction step (hydrodynamic interactions in an unbounded
      * solvent) is matrix-free (Krylov), below it dense (measured: benchmarks/platforms/
-     * hydrodynamic_interactions.py); RigidLangevinStepKernelBase::useKrylovSolvers.
+     * hydrodynamic_interactions.py); RigidLangevinStepKernelBase::chooseCoupledSolve.
      */
     static const int KrylovMinBlobs = 100;
 protected:
-    int getKrylovMinBlobs() const {
+    int getDefaultKrylovMinBlobs() const {
         return KrylovMinBlobs;
     }
     void parallelFor(int count, const std::function<void (int, int)>& task);

@@ -101,7 +101,7 @@ protected:
         const RigidLangevinIntegrator::Scheme scheme = integrator.getScheme();
         const bool frictionless = (integrator.getViscosity() == 0);
         if (interactions && !frictionless)
-            takeCoupledStep(context, integrator, removeMotion, centerOfMassVelocity);
+            advanceCoupledBodies(context, integrator);  // no motion to remove: a CMMotionRemover is refused with friction
         else {
             // One pass per body: forces, kick, flow and placing its particles, while the body is in cache.
             forEachChunk([&] (int chunk, int begin, int end) {
@@ -153,37 +153,18 @@ protected:
 private:
     std::unique_ptr<HostBlobMobility> hostMobility;  // the blobs' mobility for matrix-free coupled steps, on this platform's threads
     /**
-     * BAOAB with hydrodynamic interactions: every body's kick and half drift, the friction step of
-     * all bodies at once (the midpoint rule with their coupled resistance at the half-drifted
-     * positions, dense, with the first chunk's random numbers so that a trajectory does not depend
-     * on the number of threads), then every body's second half drift.
+     * With hydrodynamic interactions: the coupled step of all bodies (takeCoupledStep), its normal
+     * numbers from the first chunk's stream so that a trajectory does not depend on the number of
+     * threads, the products of the blobs' mobility and the per-body work on this platform's threads.
      */
-    void takeCoupledStep(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, bool removeMotion, OpenMM::Vec3 centerOfMassVelocity) {
-        const double h = integrator.getStepSize();
-        std::vector<BodyState> states(bodies.size());
-        forEachChunk([&] (int chunk, int begin, int end) {
-            for (int b = begin; b < end; b++) {
-                const BodyType& type = model->getType(model->getBodyType(b));
-                BodyState& s = states[b];
-                s = bodies.load(b);
-                if (removeMotion)
-                    s.velocity -= centerOfMassVelocity;
-                OpenMM::Vec3 force, torque;
-                computeBodyForce(b, s, force, torque);
-                BodyDynamics::kick(s, type, force, torque, h);
-                BodyDynamics::drift(s, type, 0.5*h);
-            }
-        });
+    void advanceCoupledBodies(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator) {
+        std::vector<BodyState> states;
+        downloadBodyStates(context, states);
         if (!hostMobility)
             hostMobility.reset(new HostBlobMobility([this] (int count, const std::function<void (int, int)>& task) { parallelFor(count, task); }));
-        coupledFrictionStep(context, integrator, states, [this] () { return random[0]->random.next(); }, *hostMobility);
-        forEachChunk([&] (int chunk, int begin, int end) {
-            for (int b = begin; b < end; b++) {
-                BodyDynamics::drift(states[b], model->getType(model->getBodyType(b)), 0.5*h);
-                bodies.store(b, states[b]);
-                model->placeBodyParticles(b, states[b], *data.positions, *data.velocities);
-            }
-        });
+        takeCoupledStep(context, integrator, states, *data.forces, [this] () { return random[0]->random.next(); }, *hostMobility,
+                        [this] (int count, const std::function<void (int, int)>& task) { parallelFor(count, task); });
+        uploadBodyStates(context, states);
     }
     /** Advance bodies [begin, end) by one step, drawing from rng (in two builds: RIGIDLANGEVIN_HOST_CLONES). */
     RIGIDLANGEVIN_HOST_CLONES

@@ -74,49 +74,41 @@ void RigidLangevinStepKernelBase::checkInteractionScheme(const RigidLangevinInte
 }
 
 void RigidLangevinStepKernelBase::initializeInteractions() {
-    if (interactionsEnabled)
+    if (interactionsEnabled) {
         interactions.reset(new HydrodynamicInteractions(*model));
+        coupledStep.reset(new CoupledBodyStep(*model, *interactions));
+    }
 }
 
-bool RigidLangevinStepKernelBase::useKrylovSolvers(int numBlobs) const {
-    const int minBlobs = getKrylovMinBlobs();
-    if (minBlobs < 0)
-        return false;
+CoupledSolve RigidLangevinStepKernelBase::chooseCoupledSolve(const RigidLangevinIntegrator& integrator, int numBlobs) const {
+    CoupledSolve solve = {false, integrator.getHydrodynamicTolerance(), KrylovMaxIterations};
+    const int platformMinBlobs = getDefaultKrylovMinBlobs();
     const char* setting = std::getenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER");
-    if (setting != NULL && std::string(setting) == "krylov")
-        return true;
-    if (setting != NULL && std::string(setting) == "dense")
-        return false;
-    if (setting != NULL && std::string(setting) != "")
-        throw OpenMMException("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER is '"+std::string(setting)+"': set it to dense or krylov, or unset it");
-    return numBlobs >= minBlobs;
+    if (platformMinBlobs >= 0 && setting != NULL && std::string(setting) != "") {
+        if (std::string(setting) != "krylov" && std::string(setting) != "dense")
+            throw OpenMMException("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER is '"+std::string(setting)+"': set it to dense or krylov, or unset it");
+        solve.krylov = (std::string(setting) == "krylov");
+        return solve;
+    }
+    if (integrator.getHydrodynamicSolver() != RigidLangevinIntegrator::AutomaticSolver)
+        solve.krylov = (integrator.getHydrodynamicSolver() == RigidLangevinIntegrator::KrylovSolver);
+    else {
+        int minBlobs = (integrator.getKrylovMinBlobs() >= 0 ? integrator.getKrylovMinBlobs() : platformMinBlobs);
+        solve.krylov = (minBlobs >= 0 && numBlobs >= minBlobs);
+    }
+    return solve;
 }
 
-void RigidLangevinStepKernelBase::coupledFrictionStep(ContextImpl& context, const RigidLangevinIntegrator& integrator, vector<BodyState>& states,
-                                                      const std::function<double ()>& normal, BlobMobility& mobility) {
-    const double h = integrator.getStepSize();
+void RigidLangevinStepKernelBase::takeCoupledStep(ContextImpl& context, const RigidLangevinIntegrator& integrator, vector<BodyState>& states,
+                                                  const vector<Vec3>& forces, const std::function<double ()>& normal, BlobMobility& mobility,
+                                                  const KrylovSolvers::ParallelFor& parallel) {
     Vec3 box[3];
     const bool periodic = context.getSystem().usesPeriodicBoundaryConditions();
     if (periodic)
         context.getPeriodicBoxVectors(box[0], box[1], box[2]);
-    Eigen::VectorXd u = interactions->getVelocities(states);
-    const double kT = BOLTZ*integrator.getTemperature();
-    if (useKrylovSolvers(interactions->getNumBlobs())) {
-        Eigen::VectorXd normals(3*interactions->getNumBlobs());
-        for (int i = 0; i < normals.size(); i++)
-            normals[i] = (kT > 0 ? normal() : 0.0);
-        lastKrylovIterations = interactions->krylovFrictionStep(states, integrator.getViscosity(), kT, h, normals, u, KrylovTolerance,
-                                                                KrylovMaxIterations, mobility, periodic ? box : NULL);
-    }
-    else {
-        Eigen::MatrixXd resistance = interactions->computeResistance(states, periodic ? box : NULL);
-        Eigen::VectorXd normals(u.size());
-        for (int i = 0; i < u.size(); i++)
-            normals[i] = normal();
-        midpointFrictionStep(resistance, interactions->getMasses(), integrator.getViscosity(), kT, h, normals, u);
-        lastKrylovIterations = {0, 0, 0};
-    }
-    interactions->setVelocities(u, states);
+    CoupledStepParameters step = {integrator.getStepSize(), integrator.getViscosity(), BOLTZ*integrator.getTemperature(), periodic ? box : NULL};
+    coupledStep->take(states, forces, step, chooseCoupledSolve(integrator, interactions->getNumBlobs()), normal, mobility, parallel);
+    lastKrylovIterations = coupledStep->getLastIterations();
 }
 
 void RigidLangevinStepKernelBase::checkMotionRemover(double viscosity) const {

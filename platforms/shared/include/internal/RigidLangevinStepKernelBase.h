@@ -2,6 +2,7 @@
 #define RIGID_LANGEVIN_STEP_KERNEL_BASE_H_
 
 #include "RigidLangevinKernels.h"
+#include "internal/CoupledBodyStep.h"
 #include "internal/HydrodynamicInteractions.h"
 #include "internal/RigidBodyModel.h"
 #include "internal/StepCoefficients.h"
@@ -63,34 +64,33 @@ protected:
     virtual void createRandomCheckpoint(std::ostream& stream) = 0;
     virtual void loadRandomCheckpoint(std::istream& stream) = 0;
     /**
-     * The fewest blobs for which this platform takes the coupled friction step matrix-free (Krylov
-     * solvers), or -1 for never (Reference: dense and exact, the definition of correct).
+     * The fewest blobs from which this platform takes the coupled step matrix-free by default
+     * (RigidLangevinIntegrator::setKrylovMinBlobs(-1)), or -1 for never (Reference: dense and exact,
+     * the definition of correct).
      */
-    virtual int getKrylovMinBlobs() const {
+    virtual int getDefaultKrylovMinBlobs() const {
         return -1;
     }
     /**
-     * Whether the coupled friction step of this many blobs is matrix-free: never where
-     * getKrylovMinBlobs() is -1; else as the environment variable RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER
-     * (dense or krylov) says whatever the size (the tests run both on small systems), or from
-     * getKrylovMinBlobs() blobs. Throws on any other value.
+     * How this platform solves the coupled step of numBlobs blobs: as the integrator's hydrodynamic
+     * solver settings say, or, on every platform but Reference, as the environment variable
+     * RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER (dense or krylov; for the tests, which run both on small
+     * systems) overrides them. Throws on any other value of the variable.
      */
-    bool useKrylovSolvers(int numBlobs) const;
-    /** The Krylov solves' relative tolerance and iteration limit (HydrodynamicInteractions::krylovFrictionStep). */
-    static constexpr double KrylovTolerance = 1e-10;
+    CoupledSolve chooseCoupledSolve(const RigidLangevinIntegrator& integrator, int numBlobs) const;
+    /** Each matrix-free solve's iteration limit: beyond it the step throws, naming the solve. */
     static const int KrylovMaxIterations = 1000;
     /**
-     * The friction step of bodies coupled through the solvent (BAOAB's O step for all bodies at
-     * once), on the host in double precision, for the bodies' states after the first half drift:
-     * the midpoint rule with their coupled resistance (in the System's periodic box if it has
-     * one), dense or, where useKrylovSolvers(), matrix-free with mobility's products. normal()
-     * gives the standard normal numbers (one per coordinate when dense; three per blob, only at a
-     * nonzero temperature, when matrix-free). Every platform takes this same step; they differ
-     * only in where the products of the blobs' mobility are computed.
+     * The step of bodies coupled through the solvent (CoupledBodyStep), with the integrator's
+     * settings and the System's periodic box: every platform takes this step, supplying the bodies'
+     * states and the particles' forces, its normal numbers (one per coordinate when dense; three per
+     * blob, only at a nonzero temperature, when matrix-free), where the blobs' mobility products are
+     * computed and its threads for the per-body work. Advances the states in place.
      */
-    void coupledFrictionStep(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, std::vector<BodyState>& states,
-                             const std::function<double ()>& normal, BlobMobility& mobility);
-    /** The iterations the last coupled friction step's Krylov solves took (all zero after a dense one). */
+    void takeCoupledStep(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, std::vector<BodyState>& states,
+                         const std::vector<OpenMM::Vec3>& forces, const std::function<double ()>& normal, BlobMobility& mobility,
+                         const KrylovSolvers::ParallelFor& parallel);
+    /** The iterations the last coupled step's Krylov solves took (all zero after a dense one). */
     HydrodynamicInteractions::KrylovIterations lastKrylovIterations = {0, 0, 0};
     /**
      * Fit the bodies to the particles if those were set from outside since the last step (or moved
@@ -102,6 +102,8 @@ protected:
     std::vector<TypeStepCoefficients> coefficients;
     /** The bodies' coupling through the solvent, once their types exist; null without hydrodynamic interactions. */
     std::unique_ptr<HydrodynamicInteractions> interactions;
+    /** The coupled step with interactions; null without. */
+    std::unique_ptr<CoupledBodyStep> coupledStep;
     int removerFrequency, removerIndex;
 private:
     void updateCoefficients(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator);
