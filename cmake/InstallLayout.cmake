@@ -37,13 +37,13 @@ if(Python3_Interpreter_FOUND)
     endif()
 endif()
 if(NOT EXISTS "${OPENMM_DIR}/include/OpenMM.h")
-    message(FATAL_ERROR "OPENMM_DIR='${OPENMM_DIR}' holds no include/OpenMM.h: install OpenMM 8 (pip install openmm, or conda) "
+    message(FATAL_ERROR "OPENMM_DIR='${OPENMM_DIR}' holds no include/OpenMM.h: install OpenMM 8.6 (pip install openmm==8.6.*, or conda) "
                         "into the Python environment you build for, or pass -DOPENMM_DIR=<its directory holding include/ and lib/>")
 endif()
 
 if(SKBUILD)
     if(NOT _target_platlib)
-        message(FATAL_ERROR "pip install: the target environment's Python (${Python3_EXECUTABLE}) cannot import openmm; install OpenMM 8 first")
+        message(FATAL_ERROR "pip install: the target environment's Python (${Python3_EXECUTABLE}) cannot import openmm; install OpenMM 8.6 first")
     endif()
     file(RELATIVE_PATH _in_platlib "${_target_platlib}" "${OPENMM_DIR}")
     file(RELATIVE_PATH _in_prefix "${_target_prefix}" "${OPENMM_DIR}")

@@ -17,8 +17,10 @@ rigidlangevin.hydrodynamics at each sampled configuration, times F, averaged ove
 
 Every platform has hydrodynamic interactions (--platform Reference, CPU, OpenCL or CUDA).
 
-Writes DIR/table.md and DIR/cloud.png (default examples/results/sedimenting_cloud; with --quick,
-out/sedimenting_cloud) and prints the table.
+Writes DIR/table.md and DIR/cloud.png (default out/sedimenting_cloud, outside version control) and
+prints the table. The committed results are the full run written there on purpose:
+
+    python examples/sedimenting_cloud.py --out examples/results/sedimenting_cloud
 """
 import argparse
 import math
@@ -108,12 +110,12 @@ def main():
     parser.add_argument('--picoseconds', type=float, help='the measured run (default 4, 1 with --quick)')
     parser.add_argument('--seed', type=int, default=3)
     parser.add_argument('--platform', default='CPU', help='the OpenMM platform (default CPU)')
-    parser.add_argument('--out', help='output folder')
+    parser.add_argument('--out', help='output folder (default out/sedimenting_cloud; the committed results: examples/results/sedimenting_cloud)')
     args = parser.parse_args()
     num_spheres = args.spheres or (30 if args.quick else 100)
     picoseconds = args.picoseconds or (1.0 if args.quick else 4.0)
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    out = args.out or os.path.join(root, 'out' if args.quick else os.path.join('examples', 'results'), 'sedimenting_cloud')
+    out = args.out or os.path.join(root, 'out', 'sedimenting_cloud')
     os.makedirs(out, exist_ok=True)
     _, cloud_radius = cloud(num_spheres, args.seed)
     oseen = 1+6/5*(num_spheres-1)*RADIUS/cloud_radius

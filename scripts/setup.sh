@@ -64,11 +64,11 @@ if [ ! -f "$STAMP" ] || [ "$(cat "$STAMP")" != "$want" ]; then
     echo "$want" > "$STAMP"
 fi
 
-# OpenMM's CUDA platform library (the openmm-cuda-13 wheel, pinned to the OpenMM version), so that
+# OpenMM's CUDA platform library (the openmm-cuda-13 wheel, pinned to requirements.txt's OpenMM), so that
 # the plugin's CUDA kernels can be built and linked wherever the CUDA toolkit is installed. Without
 # its dependencies: NVIDIA's runtime libraries are only needed to run on a GPU, where the CUDA
 # platform then loads; elsewhere OpenMM skips it (and the plugin's CUDA kernels) when it loads plugins.
-CUDA_WHEEL_VERSION="8.6.1"
+CUDA_WHEEL_VERSION="$(sed -n 's/^openmm==//p' "$ROOT/requirements.txt")"
 if [ "$("$VENV/bin/python" -m pip show openmm-cuda-13 2>/dev/null | sed -n 's/^Version: //p')" != "$CUDA_WHEEL_VERSION" ]; then
     step "installing openmm-cuda-13==$CUDA_WHEEL_VERSION without its dependencies (OpenMM's CUDA platform library)"
     "$VENV/bin/python" -m pip install -q --no-deps "openmm-cuda-13==$CUDA_WHEEL_VERSION" || fail "pip install openmm-cuda-13 failed (is PyPI reachable?)"

@@ -262,6 +262,27 @@ def _half_kick(masses, arms, forces, step):
     return 0.5*step*forces.sum(axis=0)/masses.sum(), 0.5*step*np.linalg.solve(inertia, torque)
 
 
+def test_reporters_write_the_time_to_the_step():
+    # At 10000 ps one 2 fs step is the eighth significant digit: both reporters must write 10000.002
+    # ('%g' wrote 10000), and a second report one step later must differ from the first.
+    system = mm.System()
+    for _ in range(3):
+        system.addParticle(16.0)
+    integrator = rl.RigidLangevinIntegrator(300*unit.kelvin, 0.89*rl.centipoise, 2*unit.femtoseconds)
+    integrator.addRigidBody([0, 1, 2])
+    for i in range(3):
+        integrator.setParticleRadius(i, 0.15)
+    simulation = app.Simulation(app.Topology(), system, integrator, mm.Platform.getPlatformByName('Reference'))
+    simulation.context.setPositions([mm.Vec3(0, 0, 0), mm.Vec3(0.1, 0, 0), mm.Vec3(0, 0.1, 0)])
+    simulation.context.setTime(10000*unit.picosecond)
+    temperatures, states = io.StringIO(), io.StringIO()
+    simulation.reporters += [rl.RigidBodyTemperatureReporter(temperatures, 1), rl.RigidBodyStateReporter(states, 1)]
+    simulation.step(2)
+    for out in (temperatures, states):
+        times = [line.split(',')[1] for line in out.getvalue().splitlines()[1:]]
+        assert times == ['10000.002', '10000.004'], out.getvalue()
+
+
 @pytest.mark.parametrize('viscosity', [0.89*rl.centipoise, 0.0])
 def test_rigid_body_states_and_their_reporter_match_the_particles(viscosity, platform):
     # getRigidBodyStates() and RigidBodyStateReporter against the particles a State reports: the

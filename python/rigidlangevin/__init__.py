@@ -10,6 +10,15 @@ import openmm.version
 
 from ._build_info import OPENMM_VERSION as _BUILT_AGAINST
 
+# The OpenMM release series this package supports, as pyproject.toml, recipe/meta.yaml and
+# CMakeLists.txt declare it (tests/test_versions.py holds them to agree): the plugin is compiled
+# against one series, its wrapper needs the SWIG runtime of 8.6's own, and the reporters the dict
+# form of describeNextReport (8.2 and later).
+_OPENMM_SERIES = '8.6'
+if openmm.version.short_version.split('.')[:2] != _OPENMM_SERIES.split('.'):
+    raise ImportError(f'rigidlangevin needs OpenMM {_OPENMM_SERIES}.x, but this environment has OpenMM {openmm.version.short_version}: '
+                      f'install openmm=={_OPENMM_SERIES}.* (then rigidlangevin against it)')
+
 # A plugin is compiled against one OpenMM release series: refuse another, rather than crash in it.
 if _BUILT_AGAINST and openmm.version.short_version.split('.')[:2] != _BUILT_AGAINST.split('.')[:2]:
     raise ImportError(f'rigidlangevin was built against OpenMM {_BUILT_AGAINST}, but this environment has OpenMM '
