@@ -268,6 +268,7 @@ public:
      * Reference; it is there for the tests, which run both paths on small systems.)
      */
     void setHydrodynamicSolver(HydrodynamicSolver solver);
+    /** Get how the coupled friction of hydrodynamic interactions is solved (setHydrodynamicSolver()). */
     HydrodynamicSolver getHydrodynamicSolver() const {
         return hydrodynamicSolver;
     }
@@ -279,6 +280,7 @@ public:
      * error study for what that does to what users measure. Takes effect at the next step.
      */
     void setHydrodynamicTolerance(double tolerance);
+    /** Get the relative residual at which the matrix-free solves stop (setHydrodynamicTolerance()). */
     double getHydrodynamicTolerance() const {
         return hydrodynamicTolerance;
     }
@@ -289,6 +291,7 @@ public:
      * exact step is the definition of correct. Takes effect at the next step.
      */
     void setKrylovMinBlobs(int blobs);
+    /** Get the number of blobs from which AutomaticSolver solves matrix-free, or -1 for the platform's default (setKrylovMinBlobs()). */
     int getKrylovMinBlobs() const {
         return krylovMinBlobs;
     }
