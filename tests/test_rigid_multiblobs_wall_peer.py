@@ -24,6 +24,9 @@ import pytest
 
 import rigidlangevin.hydrodynamics as hydro
 
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent/'benchmarks'/'hydrodynamics'))
+import boomerang_suspension  # noqa: E402
+
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 RESULTS = ROOT/'benchmarks'/'hydrodynamics'/'results'/'rigid_multiblobs_wall.json'
 PEER = ROOT/'build-peers'/'rigid-multiblobs-wall'
@@ -66,10 +69,8 @@ def test_coupled_mobility_matches_the_peers_solve():
     1e-12: K, the torque's reference point and the order of (velocity, angular velocity) per body
     must be the peer's. The tolerance is the solve's residual times the mobility's condition number."""
     ref = saved_reference()
-    positions, offsets = np.array(ref['blob_positions_um']), ref['body_blob_offsets']
-    bodies = [(positions[offsets[k]:offsets[k+1]], [ref['blob_radius_um']]*(offsets[k+1]-offsets[k]), origin)
-              for k, origin in enumerate(ref['body_locations_um'])]
-    mobility = hydro.coupledMobility(bodies)/ref['eta']
+    scene = dict(ref, locations_um=ref['body_locations_um'], blob_radii_um=[ref['blob_radius_um']]*len(ref['blob_positions_um']))
+    mobility = hydro.coupledMobility(boomerang_suspension.coupled_bodies(scene, scale=1.0))/ref['eta']
     velocities = mobility@np.array(ref['body_forces_torques'])
     tolerance = 10*max(ref['solve_relative_residual'], 1e-15)*np.linalg.cond(mobility)
     error = relative_error(velocities, np.array(ref['body_velocities_open']))
@@ -81,8 +82,6 @@ def test_the_scene_generator_still_makes_the_timed_scene():
     """benchmarks/hydrodynamics/boomerang_suspension.py (the project's side of the benchmark) gives
     the blobs the peer was timed and checked on, from the same seed: the bodies are 1.4291 um^3,
     16 of them fill 5% of the cube, and none overlaps another."""
-    sys.path.insert(0, str(ROOT/'benchmarks'/'hydrodynamics'))
-    import boomerang_suspension
     ref = saved_reference()
     scene = boomerang_suspension.scene(16)
     assert np.abs(np.array(scene['blob_positions_um'])-np.array(ref['blob_positions_um'])).max() < 1e-12

@@ -125,6 +125,15 @@ def scene(num_bodies, seed=1, volume_fraction=VOLUME_FRACTION):
     }
 
 
+def coupled_bodies(scene, scale=1000.0):
+    """The scene's bodies as rigidlangevin.hydrodynamics.coupledResistance takes them: (blob
+    positions, blob radii, reference point) per body, lengths times scale (1000: in nm; 1: in um)."""
+    positions, radii = scale*np.array(scene['blob_positions_um']), scale*np.array(scene['blob_radii_um'])
+    offsets = scene['body_blob_offsets']
+    return [(positions[start:end], radii[start:end], scale*np.array(origin))
+            for start, end, origin in zip(offsets[:-1], offsets[1:], scene['locations_um'])]
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument('--out', required=True, help='the JSON file to write')

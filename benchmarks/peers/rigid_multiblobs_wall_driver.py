@@ -134,7 +134,7 @@ def summary(wall, cpu, **extra):
         return float(values.mean()), float(error)
     (mean, error), (cpu_mean, cpu_error) = stats(wall), stats(cpu)
     return dict({'seconds': [float(t) for t in wall], 'cpu_seconds': [float(t) for t in cpu], 'mean_s': mean,
-                 'standard_error_s': error, 'cpu_mean_s': cpu_mean, 'cpu_standard_error_s': cpu_error}, **extra)
+                 'standard_error_s': error, 'min_s': float(min(wall)), 'cpu_mean_s': cpu_mean, 'cpu_standard_error_s': cpu_error}, **extra)
 
 
 def time_product(peer, scene, domain, repeats, min_block_s=0.2):

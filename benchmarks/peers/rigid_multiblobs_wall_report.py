@@ -23,14 +23,19 @@ def cell(entry):
     return f"{entry['mean_s']:.3g} ± {entry['standard_error_s']:.1g} (CPU {entry['cpu_mean_s']:.3g})"
 
 
+def span(values):
+    """'a' where every value is a, else 'min–max'."""
+    low, high = min(values), max(values)
+    return f'{low}' if low == high else f'{low}–{high}'
+
+
 def iterations(entry):
     if entry is None:
         return ''
     if 'iterations' in entry:
-        return 'GMRES ' + '/'.join(str(i) for i in sorted(set(entry['iterations'])))
+        return f"GMRES {span(entry['iterations'])}"
     if 'gmres_iterations_per_step' in entry:
-        gmres, lanczos = entry['gmres_iterations_per_step'], entry['lanczos_iterations_per_step']
-        return f'GMRES {min(gmres)}–{max(gmres)}, Lanczos {min(lanczos)}–{max(lanczos)} per step'
+        return f"GMRES {span(entry['gmres_iterations_per_step'])}, Lanczos {span(entry['lanczos_iterations_per_step'])} per step"
     return ''
 
 
