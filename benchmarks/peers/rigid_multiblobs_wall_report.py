@@ -63,6 +63,20 @@ def machine_lines(report):
             f"{', '.join(f'{x:.2f}' for x in m['load_averages_after'])} after; environment {m['environment']}."]
 
 
+def code_paths(report):
+    """Which of the peer's functions each row timed, from the settings the driver recorded."""
+    s = report['settings']
+    step = s['brownian_step']
+    return ['Code paths (the peer\'s own): M f by its numba kernels mobility.' + ' and mobility.'.join(
+                f"{name}_mobility_trans_times_force_numba" for name in ('no_wall', 'single_wall')) + '; the solve by '
+            'QuaternionIntegrator.solve_mobility_problem (its GMRES, right-preconditioned, restart '
+            f"{s['solve']['gmres_restart']}, relative residual {s['solve']['tolerance']:g}, zero first guess) with "
+            f"{s['solve']['preconditioner']} (each body's own problem solved exactly), built beforehand and timed on its own "
+            f"row; the Brownian step by QuaternionIntegrator.{step['scheme']} (its recommended scheme) at tolerance "
+            f"{step['tolerance']:g} (GMRES and Lanczos), dt {step['dt']:g} s, rf_delta {step['rf_delta']:g}, "
+            f"the preconditioner rebuilt every step; forces: {s['forces']}."]
+
+
 def plot(report, path):
     import matplotlib
     matplotlib.use('Agg')
@@ -94,7 +108,7 @@ def main():
                            'Written by benchmarks/peers/rigid_multiblobs_wall_report.py from '
                            f'{os.path.basename(path)}. Each cell: wall-clock seconds, mean of the repeats ± its '
                            'standard error, and the mean process CPU time of all threads.', '',
-                           table(report), ''] + machine_lines(report) + ['']))
+                           table(report), ''] + code_paths(report) + [''] + machine_lines(report) + ['']))
     plot(report, stem+'.png')
     print(f'(written to {stem}.md and {stem}.png)')
 
