@@ -27,9 +27,10 @@ can check its own products and mobility against them (tests/test_rigid_multiblob
 """
 import os
 
-# Its thread count (numba) and the BLAS's, before numpy and numba load.
+# Its thread count (numba's; 2 unless NUMBA_NUM_THREADS says otherwise) and the BLAS's the same,
+# before numpy and numba load.
 for _name in ('NUMBA_NUM_THREADS', 'OMP_NUM_THREADS', 'OPENBLAS_NUM_THREADS', 'MKL_NUM_THREADS'):
-    os.environ.setdefault(_name, '2')
+    os.environ.setdefault(_name, os.environ.get('NUMBA_NUM_THREADS', '2'))
 
 import argparse  # noqa: E402
 import functools  # noqa: E402

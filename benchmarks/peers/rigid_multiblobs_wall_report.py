@@ -92,7 +92,8 @@ def plot(report, path):
     ax.set_yscale('log')
     ax.set_xlabel('boomerangs (15 blobs each)')
     ax.set_ylabel('seconds')
-    ax.set_title('RigidMultiblobsWall (numba, 2 threads)')
+    threads = report['machine']['numba_threads']
+    ax.set_title(f"RigidMultiblobsWall (numba, {threads} thread{'s' if threads > 1 else ''})")
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
