@@ -81,15 +81,24 @@ void BeadHydrodynamics::validate(const string& caller, const vector<Vec3>& posit
     if (positions.size() != radii.size())
         throw OpenMMException(caller+": got "+std::to_string(positions.size())+" bead positions but "+std::to_string(radii.size())+" radii; give one radius per bead");
     const int numBeads = positions.size();
-    double maxRadius = 0;
     for (int i = 0; i < numBeads; i++) {
         if (!std::isfinite(positions[i][0]) || !std::isfinite(positions[i][1]) || !std::isfinite(positions[i][2]))
             throw OpenMMException(caller+": bead "+std::to_string(i)+" has position "+describe(positions[i])+"; every coordinate must be a finite number (nm)");
         if (!(radii[i] > 0) || !std::isfinite(radii[i]))
             throw OpenMMException(caller+": bead "+std::to_string(i)+" has radius "+std::to_string(radii[i])+"; every radius must be positive and finite (nm)");
-        maxRadius = std::max(maxRadius, radii[i]);
     }
-    // Coincident beads: sort by x and compare each bead with those within the tolerance in x.
+    std::pair<int, int> same = findCoincident(positions, radii);
+    if (same.first >= 0)
+        throw OpenMMException(caller+": beads "+std::to_string(same.first)+" and "+std::to_string(same.second)+" are coincident (both at "+describe(positions[same.first])+
+                " with radius "+std::to_string(radii[same.first])+"); a bead model cannot hold the same sphere twice, so remove one of them");
+}
+
+std::pair<int, int> BeadHydrodynamics::findCoincident(const vector<Vec3>& positions, const vector<double>& radii) {
+    const int numBeads = positions.size();
+    double maxRadius = 0;
+    for (double r : radii)
+        maxRadius = std::max(maxRadius, r);
+    // Sort by x and compare each bead with those within the tolerance in x.
     vector<int> order(numBeads);
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](int a, int b) { return positions[a][0] < positions[b][0]; });
@@ -100,9 +109,9 @@ void BeadHydrodynamics::validate(const string& caller, const vector<Vec3>& posit
             double tolerance = COINCIDENCE_TOLERANCE*std::max(radii[i], radii[j]);
             Vec3 d = positions[i]-positions[j];
             if (std::sqrt(d.dot(d)) <= tolerance && std::abs(radii[i]-radii[j]) <= tolerance)
-                throw OpenMMException(caller+": beads "+std::to_string(i)+" and "+std::to_string(j)+" are coincident (both at "+describe(positions[i])+
-                        " with radius "+std::to_string(radii[i])+"); a bead model cannot hold the same sphere twice, so remove one of them");
+                return std::make_pair(i, j);
         }
+    return std::make_pair(-1, -1);
 }
 
 Matrix6 BeadHydrodynamics::resistance(const string& caller, const vector<Vec3>& positions, const vector<double>& radii,

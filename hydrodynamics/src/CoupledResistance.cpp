@@ -3,11 +3,14 @@
 #include "internal/CoupledResistanceMath.h"
 #include "internal/PeriodicRotnePragerYamakawa.h"
 #include "internal/ResistanceMath.h"
+#include "internal/RotnePragerBlake.h"
 #include "internal/RotnePragerYamakawa.h"
 #include "openmm/OpenMMException.h"
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <sstream>
 #include <string>
 
 using namespace RigidLangevinPlugin;
@@ -38,15 +41,26 @@ int CoupledResistance::addBody(const vector<Vec3>& blobPositions, const vector<d
     return origins.size()-1;
 }
 
-CoupledResistance::CoupledResistance() : periodic(false) {
+CoupledResistance::CoupledResistance() : periodic(false), wall(false), wallZ(0) {
 }
 
 void CoupledResistance::setPeriodicBox(const Vec3& a, const Vec3& b, const Vec3& c) {
+    if (wall)
+        throw OpenMMException("CoupledResistance::setPeriodicBox: the bodies are above a no-slip wall (setWall()); a wall and a periodic box together are not supported");
     Vec3 vectors[3] = {a, b, c};
     PeriodicRotnePragerYamakawa check(vectors);  // refuses a box that is not one
     for (int i = 0; i < 3; i++)
         box[i] = vectors[i];
     periodic = true;
+}
+
+void CoupledResistance::setWall(double z0) {
+    if (periodic)
+        throw OpenMMException("CoupledResistance::setWall: the bodies are in a periodic box (setPeriodicBox()); a wall and a periodic box together are not supported");
+    if (!std::isfinite(z0))
+        throw OpenMMException("CoupledResistance::setWall: the wall's height is not finite; give z0 in nm");
+    wall = true;
+    wallZ = z0;
 }
 
 void CoupledResistance::setBodyResistance(int body, const ResistanceTensor& own) {
@@ -68,8 +82,20 @@ vector<double> CoupledResistance::getResistance() const {
             allRadii.push_back(radii[b][k]);
             owner.push_back(b);
         }
-    Matrix resistance = CoupledResistanceMath::resistance("CoupledResistance::getResistance (blobs numbered across all bodies, in the order added)",
-                                                          positions, allRadii, owner, origins, periodic ? box : NULL);
+    Matrix resistance;
+    try {
+        resistance = CoupledResistanceMath::resistance("CoupledResistance::getResistance (blobs numbered across all bodies, in the order added)",
+                                                       positions, allRadii, owner, origins, periodic ? box : NULL,
+                                                       wall ? std::optional<double>(wallZ) : std::nullopt);
+    }
+    catch (const RotnePragerBlake::BlobBelowWallException& e) {
+        const int body = owner[e.getBlob()];
+        const int blob = e.getBlob()-(std::find(owner.begin(), owner.end(), body)-owner.begin());
+        std::ostringstream message;
+        message << "CoupledResistance::getResistance: body " << body << " has its blob " << blob << " at z = " << positions[e.getBlob()][2]
+                << " nm, at or below the no-slip wall at z = " << wallZ << " nm; every blob's centre must lie above the wall: place the body above it";
+        throw OpenMMException(message.str());
+    }
     // Calibrated bodies: T^T R T, T block-diagonal, each block from the body's blobs alone.
     for (int b = 0; b < numBodies; b++) {
         if (ownResistance[b].empty())
@@ -106,13 +132,18 @@ vector<double> CoupledResistance::getMobility() const {
 }
 
 Eigen::MatrixXd CoupledResistanceMath::resistance(const std::string& caller, const vector<Vec3>& positions, const vector<double>& radii,
-                                                  const vector<int>& owner, const vector<Vec3>& origins, const Vec3* boxVectors) {
+                                                  const vector<int>& owner, const vector<Vec3>& origins, const Vec3* boxVectors, std::optional<double> wallZ) {
     // Two bodies may hold the same sphere: M would be singular, and the message names both blobs.
     BeadHydrodynamics::validate(caller, positions, radii);
+    if (boxVectors != NULL && wallZ)
+        throw OpenMMException(caller+": bodies above a no-slip wall cannot also be in a periodic box (that is not supported)");
+    if (wallZ)
+        RotnePragerBlake::validate(caller, positions, radii, *wallZ);
     const int numBlobs = positions.size();
     const int numBodies = origins.size();
     // The lower triangle is enough.
-    Eigen::MatrixXd mobility = (boxVectors != NULL ? PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii) : mobilityMatrix(positions, radii));
+    Eigen::MatrixXd mobility = (boxVectors != NULL ? PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii) :
+                                wallZ ? RotnePragerBlake::mobilityMatrix(positions, radii, *wallZ) : mobilityMatrix(positions, radii));
     // K: blob k of body b moves at V_b - skew(r_k - o_b) omega_b.
     Eigen::MatrixXd k = Eigen::MatrixXd::Zero(3*numBlobs, 6*numBodies);
     for (int i = 0; i < numBlobs; i++) {

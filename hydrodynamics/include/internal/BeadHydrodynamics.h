@@ -5,6 +5,7 @@
 #include "internal/windowsExportHydrodynamics.h"
 #include "openmm/Vec3.h"
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace RigidLangevinPlugin {
@@ -47,6 +48,12 @@ OPENMM_EXPORT_HYDRODYNAMICS bool isAVX2KernelAvailable();
  */
 OPENMM_EXPORT_HYDRODYNAMICS void validate(const std::string& caller, const std::vector<OpenMM::Vec3>& positions,
                                           const std::vector<double>& radii);
+
+/**
+ * The first pair (i < j) of coincident beads, as validate() defines them, or (-1, -1) if there is
+ * none; for positive radii. Sorts the beads along x: O(N log N) for beads spread along x.
+ */
+OPENMM_EXPORT_HYDRODYNAMICS std::pair<int, int> findCoincident(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii);
 
 /**
  * The resistance tensor per unit viscosity of the bead model about origin (convention of

@@ -5,6 +5,7 @@
 #include "internal/KrylovSolvers.h"
 #include "internal/windowsExportHydrodynamics.h"
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,13 +21,17 @@ namespace CoupledResistanceMath {
  * R = K^T M^-1 K per unit viscosity (lab frame; see CoupledResistance) for blobs at positions with
  * radii, blob k belonging to body owner[k], the bodies' reference points at origins; in a periodic
  * box if boxVectors (three) is given (M then PeriodicRotnePragerYamakawa's, each body's blobs
- * taken where they are, relative to its origin). Throws an OpenMMException, beginning with
- * caller, naming two blobs that are the same sphere or one that is not finite, or if M cannot be
- * factorised.
+ * taken where they are, relative to its origin); above a no-slip wall, the plane z = wallZ, if
+ * wallZ is given (M then RotnePragerBlake's, regularised). Throws an OpenMMException, beginning
+ * with caller, naming two blobs that are the same sphere or one that is not finite, or if M
+ * cannot be factorised, or if both a box and a wall are given; a
+ * RotnePragerBlake::BlobBelowWallException naming a blob (numbered as in positions) whose centre
+ * is at or below the wall.
  */
 OPENMM_EXPORT_HYDRODYNAMICS Eigen::MatrixXd resistance(const std::string& caller, const std::vector<OpenMM::Vec3>& positions,
                                                        const std::vector<double>& radii, const std::vector<int>& owner,
-                                                       const std::vector<OpenMM::Vec3>& origins, const OpenMM::Vec3* boxVectors = NULL);
+                                                       const std::vector<OpenMM::Vec3>& origins, const OpenMM::Vec3* boxVectors = NULL,
+                                                       std::optional<double> wallZ = std::nullopt);
 
 /**
  * The blobs' generalised RPY mobility M per unit viscosity (unbounded solvent), 3N x 3N: its lower
