@@ -163,22 +163,16 @@ Eigen::MatrixXd CoupledResistanceMath::resistance(const std::string& caller, con
 }
 
 Eigen::MatrixXd CoupledResistanceMath::mobilityMatrix(const vector<Vec3>& positions, const vector<double>& radii, const KrylovSolvers::ParallelFor& parallel) {
-    const int n = positions.size();
-    Eigen::MatrixXd mobility(3*n, 3*n);
-    parallel(n, [&] (int begin, int end) {
-        for (int i = begin; i < end; i++) {
-            for (int j = 0; j < i; j++) {
-                double block[9];
-                Vec3 d = positions[j]-positions[i];
-                RotnePragerYamakawa::mobilityBlock(d[0], d[1], d[2], radii[i], radii[j], block);
-                for (int k = 0; k < 3; k++)
-                    for (int l = 0; l < 3; l++)
-                        mobility(3*i+k, 3*j+l) = block[3*k+l];
-            }
-            mobility.block<3, 3>(3*i, 3*i) = RotnePragerYamakawa::selfMobility(radii[i])*Eigen::Matrix3d::Identity();
+    return lowerTriangle(positions.size(), [&] (int i, int j, double block[9]) {
+        if (i == j) {
+            const double self = RotnePragerYamakawa::selfMobility(radii[i]);
+            for (int k = 0; k < 9; k++)
+                block[k] = (k%4 == 0 ? self : 0.0);
+            return;
         }
-    });
-    return mobility;
+        Vec3 d = positions[j]-positions[i];
+        RotnePragerYamakawa::mobilityBlock(d[0], d[1], d[2], radii[i], radii[j], block);
+    }, parallel);
 }
 
 void CoupledResistanceMath::mobilityProduct(const vector<Vec3>& positions, const vector<double>& radii, const Eigen::VectorXd& f, Eigen::VectorXd& out,

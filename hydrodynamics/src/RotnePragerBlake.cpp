@@ -1,5 +1,6 @@
 #include "internal/RotnePragerBlake.h"
 #include "internal/BeadHydrodynamics.h"
+#include "internal/CoupledResistanceMath.h"
 #include "internal/RotnePragerYamakawa.h"
 #include <sstream>
 
@@ -77,25 +78,21 @@ void RotnePragerBlake::validate(const std::string& caller, const vector<Vec3>& p
 Eigen::MatrixXd RotnePragerBlake::mobilityMatrix(const vector<Vec3>& positions, const vector<double>& radii, double wallZ,
                                                  const KrylovSolvers::ParallelFor& parallel) {
     const vector<RaisedBlob> blobs = raise(positions, radii, wallZ);
-    const int n = blobs.size();
-    Eigen::MatrixXd mobility(3*n, 3*n);
-    parallel(n, [&] (int begin, int end) {
-        for (int i = begin; i < end; i++) {
-            for (int j = 0; j < i; j++) {
-                double block[9];
-                pairBlock(blobs[i], blobs[j], block);
-                const double damping = blobs[i].damping*blobs[j].damping;
-                for (int k = 0; k < 3; k++)
-                    for (int l = 0; l < 3; l++)
-                        mobility(3*i+k, 3*j+l) = damping*block[3*k+l];
-            }
+    return CoupledResistanceMath::lowerTriangle(blobs.size(), [&] (int i, int j, double block[9]) {
+        if (i == j) {
             double parallelToWall, perpendicular;
             selfMobility(blobs[i].height, blobs[i].radius, parallelToWall, perpendicular);
-            const double damping2 = blobs[i].damping*blobs[i].damping;
-            mobility.block<3, 3>(3*i, 3*i) = damping2*Eigen::Vector3d(parallelToWall, parallelToWall, perpendicular).asDiagonal();
+            for (int k = 0; k < 9; k++)
+                block[k] = 0;
+            block[0] = block[4] = parallelToWall;
+            block[8] = perpendicular;
         }
-    });
-    return mobility;
+        else
+            pairBlock(blobs[i], blobs[j], block);
+        const double damping = blobs[i].damping*blobs[j].damping;
+        for (int k = 0; k < 9; k++)
+            block[k] *= damping;
+    }, parallel);
 }
 
 void RotnePragerBlake::mobilityProduct(const vector<Vec3>& positions, const vector<double>& radii, double wallZ, const Eigen::VectorXd& f,

@@ -34,6 +34,26 @@ OPENMM_EXPORT_HYDRODYNAMICS Eigen::MatrixXd resistance(const std::string& caller
                                                        std::optional<double> wallZ = std::nullopt);
 
 /**
+ * The lower triangle of a 3n x 3n matrix (the upper is left unset) from its 3x3 blocks:
+ * block(i, j, values) writes block (i, j), row-major, for every j <= i; rows shared out by parallel.
+ */
+template <class Block>
+Eigen::MatrixXd lowerTriangle(int n, const Block& block, const KrylovSolvers::ParallelFor& parallel) {
+    Eigen::MatrixXd m(3*n, 3*n);
+    parallel(n, [&] (int begin, int end) {
+        for (int i = begin; i < end; i++)
+            for (int j = 0; j <= i; j++) {
+                double values[9];
+                block(i, j, values);
+                for (int k = 0; k < 3; k++)
+                    for (int l = 0; l < 3; l++)
+                        m(3*i+k, 3*j+l) = values[3*k+l];
+            }
+    });
+    return m;
+}
+
+/**
  * The blobs' generalised RPY mobility M per unit viscosity (unbounded solvent), 3N x 3N: its lower
  * triangle (the upper is left unset), rows shared out by parallel.
  */
