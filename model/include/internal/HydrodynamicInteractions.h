@@ -60,9 +60,12 @@ public:
      *
      * with z = 2 M_b u + xi, u' = (M_b + c R)^-1 z - u. Each solve is preconditioned by every body's
      * own blocks (fixed in its frame, so factorised once per body type) and stopped at relative
-     * residual tolerance; one that does not converge in maxIterations throws, saying which and what
-     * to do. normals: 3 per blob. The products of M are mobility's (given the blobs here: on the
-     * host, HostBlobMobility; on a device, the platform's own).
+     * residual tolerance; a solve that does not converge in maxIterations, finds its operator not
+     * positive definite or meets a product that is not finite throws, naming which solve (the
+     * Lanczos square root or the conjugate gradients for the noise, or those for the friction), why
+     * (KrylovSolvers::explain) and what to do. normals: 3 per blob. The products of M are
+     * mobility's (given the blobs here: on the host, HostBlobMobility; on a device, the platform's
+     * own).
      */
     KrylovIterations krylovFrictionStep(const std::vector<BodyState>& states, double viscosity, double kT, double h, const Eigen::VectorXd& normals,
                                         Eigen::VectorXd& u, double tolerance, int maxIterations, BlobMobility& mobility,
