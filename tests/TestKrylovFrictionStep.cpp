@@ -1,8 +1,10 @@
 /*
  * The matrix-free coupled friction step (HydrodynamicInteractions::krylovFrictionStep) when it
  * cannot give an answer, called directly with its solves' limits as arguments: each of its three
- * Krylov solves, given too few iterations or a mobility that is not positive definite, throws
- * naming that solve and its numbers.
+ * Krylov solves, given too few iterations, throws naming that solve and its numbers; blobs that the
+ * dense path refuses (not finite, the same sphere on two bodies, in a periodic box too large or the
+ * same sphere through it) are refused here too, with the same message naming body and blob, before
+ * a single product with the mobility.
  */
 #include "ReferenceTests.h"
 #include "RigidBodyTestUtilities.h"
@@ -141,4 +143,44 @@ TEST(KrylovFrictionStep, EachSolveThatFindsItsOperatorNotPositiveDefiniteIsNamed
                     {std::string(c.solve), "found the operator not positive definite", "Rayleigh quotient of it on its Krylov space is -", "RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER=dense"});
         EXPECT_LE(mobility.products, c.healthyProducts+4);  // not after 1000 iterations
     }
+}
+
+TEST(KrylovFrictionStep, RefusesWhatTheDensePathRefusesBeforeAnyProduct) {
+    // Each bad configuration is refused by the matrix-free step before it sets the mobility's blobs,
+    // with the dense path's own message (computeResistance, the same validation).
+    ThreeBodies bodies;
+    const Vec3 cube[3] = {Vec3(1.0, 0, 0), Vec3(0, 1.0, 0), Vec3(0, 0, 1.0)};
+    const Vec3 small[3] = {Vec3(0.23, 0, 0), Vec3(0, 0.8, 0), Vec3(0, 0, 0.8)};
+    struct Case {
+        const char* name;
+        std::function<void (vector<BodyState>&)> change;
+        const Vec3* box;
+        vector<std::string> parts;
+    };
+    const double NaN = std::nan("");
+    vector<Case> cases = {
+        {"a position that is not finite", [&] (vector<BodyState>& s) { s[1].position[2] = NaN; }, NULL,
+         {"RigidLangevinIntegrator: hydrodynamic interactions: blob 0 of rigid body 1 has position", "nan", "finite"}},
+        {"the same spheres on two bodies", [] (vector<BodyState>& s) { s[2] = s[0]; }, NULL,
+         {"of rigid body 0 and blob ", " of rigid body 2 are coincident"}},
+        {"the same spheres through the box", [&] (vector<BodyState>& s) { s[2] = s[0]; s[2].position += cube[1]-cube[2]; }, cube,
+         {"of rigid body 0 and blob ", " of rigid body 2 are the same sphere through the periodic box"}},
+        {"blobs too large for the box", [] (vector<BodyState>&) {}, small,
+         {"blob 0 of rigid body 0 has radius 0.06 nm, too large for the periodic box", "(0.115 nm)", "larger box", "smaller blobs"}},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        vector<BodyState> states = bodies.states;
+        c.change(states);
+        CountingMobility mobility;
+        expectError([&] { bodies.step(states, 2.5, 1000, mobility, c.box); }, c.parts);
+        EXPECT_EQ(0, mobility.setBlobsCalls);
+        EXPECT_EQ(0, mobility.products);
+        expectError([&] { bodies.interactions->computeResistance(states, c.box); }, c.parts);
+    }
+    // And the same bodies as they were, in the cube, pass.
+    CountingMobility mobility;
+    bodies.step(bodies.states, 2.5, 1000, mobility, cube);
+    EXPECT_EQ(1, mobility.setBlobsCalls);
+    EXPECT_GT(mobility.products, 3);
 }

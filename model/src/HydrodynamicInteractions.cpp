@@ -48,7 +48,8 @@ HydrodynamicInteractions::HydrodynamicInteractions(const RigidBodyModel& model) 
         std::string caller = "RigidLangevinIntegrator: hydrodynamic interactions of "+model.getBodyName(model.getFirstBodyOfType(t));
         // The blobs' resistance alone and the body's own friction, in its frame about its centre
         // of mass, over the motions it makes.
-        Eigen::MatrixXd alone = CoupledResistanceMath::resistance(caller, blobs.coords, blobs.radii, vector<int>(blobs.coords.size(), 0), {Vec3()});
+        Eigen::MatrixXd alone = CoupledResistanceMath::resistance(caller, blobs.coords, blobs.radii, vector<int>(blobs.coords.size(), 0), {Vec3()}, NULL,
+                                                                  [&] (int) { return model.getBodyName(model.getFirstBodyOfType(t)); });
         vector<int> active = type.getActiveCoordinates();
         int n = active.size();
         Eigen::MatrixXd d(n, n), own(n, n);
@@ -99,6 +100,10 @@ HydrodynamicInteractions::HydrodynamicInteractions(const RigidBodyModel& model) 
     }
 }
 
+CoupledResistanceMath::BodyNames HydrodynamicInteractions::bodyNames() const {
+    return [this] (int body) { return model.getBodyName(body); };
+}
+
 int HydrodynamicInteractions::getNumBlobs() const {
     int count = 0;
     for (int b = 0; b < model.getNumBodies(); b++)
@@ -128,8 +133,7 @@ Eigen::MatrixXd HydrodynamicInteractions::computeResistance(const vector<BodySta
         owner.insert(owner.end(), types[model.getBodyType(b)].coords.size(), b);
         origins.push_back(states[b].position);
     }
-    Eigen::MatrixXd r = CoupledResistanceMath::resistance("RigidLangevinIntegrator: hydrodynamic interactions (blobs numbered across all bodies in order, "
-            "free particles last)", positions, radii, owner, origins, boxVectors);
+    Eigen::MatrixXd r = CoupledResistanceMath::resistance(Caller, positions, radii, owner, origins, boxVectors, bodyNames());
     // Each body's rows and columns into its frame (Q, lab to body, on its force and its torque),
     // then calibrated: T_a R_ab T_b.
     for (int b = 0; b < numBodies; b++) {
@@ -208,9 +212,14 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
     vector<double> radii;
     placeBlobs(states, positions, radii);
     const int numBlobs = positions.size();
-    vector<int> firstBlob(numBodies);
-    for (int b = 0, k = 0; b < numBodies; k += types[model.getBodyType(b)].coords.size(), b++)
+    vector<int> firstBlob(numBodies), owner;
+    for (int b = 0, k = 0; b < numBodies; k += types[model.getBodyType(b)].coords.size(), b++) {
         firstBlob[b] = k;
+        owner.insert(owner.end(), types[model.getBodyType(b)].coords.size(), b);
+    }
+    // What the dense path refuses, refused here before any product: non-finite positions would
+    // spend every iteration on NaN, and two blobs the same sphere make M singular.
+    CoupledResistanceMath::validateBlobs(Caller, positions, radii, owner, boxVectors, bodyNames());
     const double c = 0.5*h*viscosity;
     // Each type's friction preconditioner, for this c.
     for (int t = 0; t < (int) types.size(); t++) {
