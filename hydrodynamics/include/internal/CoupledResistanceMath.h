@@ -5,6 +5,7 @@
 #include "internal/KrylovSolvers.h"
 #include "internal/windowsExportHydrodynamics.h"
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -16,17 +17,33 @@ namespace RigidLangevinPlugin {
  */
 namespace CoupledResistanceMath {
 
+/** The name of body b in messages (such as "rigid body 3"); where none is given, "body b". */
+typedef std::function<std::string (int body)> BodyNames;
+
+/**
+ * Throw an OpenMMException, beginning with caller, unless the blobs at positions with radii (blob k
+ * belonging to body owner[k], the bodies' blobs in order) can be coupled, in the periodic box of
+ * boxVectors (three) if given: BeadHydrodynamics::validate() (finite positions, positive finite
+ * radii, no two blobs the same sphere, on one body or on two) and, in a box,
+ * PeriodicRotnePragerYamakawa::validate() (every blob's diameter under half the box's smallest
+ * width; no two blobs the same sphere through the box). Blobs are named "blob i of " the body's
+ * name. The dense and the matrix-free paths both check this before using the blobs.
+ */
+OPENMM_EXPORT_HYDRODYNAMICS void validateBlobs(const std::string& caller, const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii,
+                                               const std::vector<int>& owner, const OpenMM::Vec3* boxVectors, const BodyNames& bodyNames = BodyNames());
+
 /**
  * R = K^T M^-1 K per unit viscosity (lab frame; see CoupledResistance) for blobs at positions with
  * radii, blob k belonging to body owner[k], the bodies' reference points at origins; in a periodic
  * box if boxVectors (three) is given (M then PeriodicRotnePragerYamakawa's, each body's blobs
  * taken where they are, relative to its origin). Throws an OpenMMException, beginning with
- * caller, naming two blobs that are the same sphere or one that is not finite, or if M cannot be
+ * caller, for blobs that validateBlobs() refuses (naming them by bodyNames), or if M cannot be
  * factorised.
  */
 OPENMM_EXPORT_HYDRODYNAMICS Eigen::MatrixXd resistance(const std::string& caller, const std::vector<OpenMM::Vec3>& positions,
                                                        const std::vector<double>& radii, const std::vector<int>& owner,
-                                                       const std::vector<OpenMM::Vec3>& origins, const OpenMM::Vec3* boxVectors = NULL);
+                                                       const std::vector<OpenMM::Vec3>& origins, const OpenMM::Vec3* boxVectors = NULL,
+                                                       const BodyNames& bodyNames = BodyNames());
 
 /**
  * The blobs' generalised RPY mobility M per unit viscosity (unbounded solvent), 3N x 3N: its lower
