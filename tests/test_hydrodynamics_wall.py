@@ -188,7 +188,7 @@ def test_resolved_sphere_near_the_wall():
 def test_blob_below_the_wall_is_refused_naming_its_body():
     positions, radii = _boomerang(np.array([0.0, 0.0, 400.0]), 0.0)
     bodies = [(positions, radii, positions[0]), (positions+[0, 0, -300], radii, positions[0]+[0, 0, -300])]
-    with pytest.raises(openmm.OpenMMException, match='body 1 has its blob 0 at z = 100 nm, at or below the no-slip wall at z = 150 nm'):
+    with pytest.raises(openmm.OpenMMException, match='blob 0 of body 1 has its centre at z = 100 nm, at or below the no-slip wall at z = 150 nm'):
         hydro.coupledResistance(bodies, wall=150.0)
     with pytest.raises(openmm.OpenMMException, match='not supported'):
         hydro.coupledResistance(bodies[:1], box=np.eye(3)*1e4, wall=0.0)

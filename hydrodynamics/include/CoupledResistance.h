@@ -60,10 +60,16 @@ public:
      * Put the bodies in a periodic box (three vectors in nm, OpenMM's reduced triclinic form or
      * any right-handed box): the blobs' mobility M is then the Ewald sum over all their images
      * (Hasimoto's split, both parts positive definite; a lone blob in a cube of side L has the
-     * mobility (1 - 2.837297 a/L + 4 pi/3 (a/L)^3)/(6 pi viscosity a) exactly). A body's blobs are
-     * taken where they are given, relative to its reference point, so give each body whole. A
-     * calibrated body (setBodyResistance()) is calibrated alone in an unbounded solvent, where
-     * its own tensor belongs; in the box it then also feels its images.
+     * mobility (1 - 2.837297 a/L + 4 pi/3 (a/L)^3)/(6 pi viscosity a) exactly while 2a < L). A
+     * body's blobs are taken where they are given, relative to its reference point, so give each
+     * body whole. A calibrated body (setBodyResistance()) is calibrated alone in an unbounded
+     * solvent, where its own tensor belongs; in the box it then also feels its images.
+     *
+     * Every blob's diameter must be under half the box's smallest width (the least distance
+     * between two opposite faces), as the integrator asks of a body: then two blobs overlap at most
+     * the nearest image of each other, and a blob none of its own. Larger blobs overlap several
+     * images at once, where the overlap-regularised kernel no longer describes spheres in a box
+     * (and Hasimoto's expansion no longer holds); getResistance() refuses them, naming the blob.
      */
     void setPeriodicBox(const OpenMM::Vec3& a, const OpenMM::Vec3& b, const OpenMM::Vec3& c);
     /**
@@ -107,8 +113,10 @@ public:
     }
     /**
      * The 36 N^2 values, row-major, of the bodies' resistance R per unit viscosity (see the class
-     * description). Throws an OpenMMException naming the blobs if two of them are the same sphere (then
-     * M is singular), or if a blob's position or radius is not finite and positive.
+     * description). Throws an OpenMMException naming the blobs (blob k of body b) if two of them are
+     * the same sphere, on one body or two, or in a periodic box through it (then M is singular), if
+     * a blob's position or radius is not finite and positive, or if in a periodic box a blob is too
+     * large for it (see setPeriodicBox()).
      */
     std::vector<double> getResistance() const;
     /**

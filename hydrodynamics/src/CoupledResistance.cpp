@@ -9,8 +9,6 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
-#include <algorithm>
-#include <sstream>
 #include <string>
 
 using namespace RigidLangevinPlugin;
@@ -82,26 +80,15 @@ vector<double> CoupledResistance::getResistance() const {
             allRadii.push_back(radii[b][k]);
             owner.push_back(b);
         }
-    Matrix resistance;
-    try {
-        resistance = CoupledResistanceMath::resistance("CoupledResistance::getResistance (blobs numbered across all bodies, in the order added)",
-                                                       positions, allRadii, owner, origins, periodic ? box : NULL,
-                                                       wall ? std::optional<double>(wallZ) : std::nullopt);
-    }
-    catch (const RotnePragerBlake::BlobBelowWallException& e) {
-        const int body = owner[e.getBlob()];
-        const int blob = e.getBlob()-(std::find(owner.begin(), owner.end(), body)-owner.begin());
-        std::ostringstream message;
-        message << "CoupledResistance::getResistance: body " << body << " has its blob " << blob << " at z = " << positions[e.getBlob()][2]
-                << " nm, at or below the no-slip wall at z = " << wallZ << " nm; every blob's centre must lie above the wall: place the body above it";
-        throw OpenMMException(message.str());
-    }
+    Matrix resistance = CoupledResistanceMath::resistance("CoupledResistance::getResistance", positions, allRadii, owner, origins, periodic ? box : NULL,
+                                                          CoupledResistanceMath::BodyNames(), wall ? std::optional<double>(wallZ) : std::nullopt);
     // Calibrated bodies: T^T R T, T block-diagonal, each block from the body's blobs alone.
     for (int b = 0; b < numBodies; b++) {
         if (ownResistance[b].empty())
             continue;
         std::string name = "CoupledResistance::getResistance (body "+std::to_string(b)+")";
-        Eigen::MatrixXd alone = CoupledResistanceMath::resistance(name, blobs[b], radii[b], vector<int>(blobs[b].size(), 0), {origins[b]});
+        Eigen::MatrixXd alone = CoupledResistanceMath::resistance(name, blobs[b], radii[b], vector<int>(blobs[b].size(), 0), {origins[b]}, NULL,
+                                                                  [b] (int) { return "body "+std::to_string(b); });
         Eigen::MatrixXd own = Eigen::Map<const Matrix>(ownResistance[b].data(), 6, 6);
         Eigen::MatrixXd t = CoupledResistanceMath::calibration(name, alone, own);
         resistance.middleRows(6*b, 6) = (t*resistance.middleRows(6*b, 6)).eval();
@@ -131,14 +118,31 @@ vector<double> CoupledResistance::getMobility() const {
     return toVector(mobility);
 }
 
-Eigen::MatrixXd CoupledResistanceMath::resistance(const std::string& caller, const vector<Vec3>& positions, const vector<double>& radii,
-                                                  const vector<int>& owner, const vector<Vec3>& origins, const Vec3* boxVectors, std::optional<double> wallZ) {
-    // Two bodies may hold the same sphere: M would be singular, and the message names both blobs.
-    BeadHydrodynamics::validate(caller, positions, radii);
+void CoupledResistanceMath::validateBlobs(const std::string& caller, const vector<Vec3>& positions, const vector<double>& radii, const vector<int>& owner,
+                                          const Vec3* boxVectors, const BodyNames& bodyNames, std::optional<double> wallZ) {
+    // Each blob by its index in its body: blob i's owner holds the blobs since the body's first.
+    auto names = [&] (int i) {
+        int first = i;
+        while (first > 0 && owner[first-1] == owner[i])
+            first--;
+        return "blob "+std::to_string(i-first)+" of "+(bodyNames ? bodyNames(owner[i]) : "body "+std::to_string(owner[i]));
+    };
+    if (owner.size() != positions.size())
+        throw OpenMMException(caller+": "+std::to_string(positions.size())+" blobs but "+std::to_string(owner.size())+" owners");
+    BeadHydrodynamics::validate(caller, positions, radii, names);
     if (boxVectors != NULL && wallZ)
         throw OpenMMException(caller+": bodies above a no-slip wall cannot also be in a periodic box (that is not supported)");
+    if (boxVectors != NULL)
+        PeriodicRotnePragerYamakawa(boxVectors).validate(caller, positions, radii, names);
     if (wallZ)
-        RotnePragerBlake::validate(caller, positions, radii, *wallZ);
+        RotnePragerBlake::validate(caller, positions, radii, *wallZ, names);
+}
+
+Eigen::MatrixXd CoupledResistanceMath::resistance(const std::string& caller, const vector<Vec3>& positions, const vector<double>& radii,
+                                                  const vector<int>& owner, const vector<Vec3>& origins, const Vec3* boxVectors, const BodyNames& bodyNames,
+                                                  std::optional<double> wallZ) {
+    // Two bodies may hold the same sphere: M would be singular, and the message names both blobs.
+    validateBlobs(caller, positions, radii, owner, boxVectors, bodyNames, wallZ);
     const int numBlobs = positions.size();
     const int numBodies = origins.size();
     // The lower triangle is enough.

@@ -1,9 +1,13 @@
 #include "internal/PeriodicRotnePragerYamakawa.h"
+#include "internal/BeadHydrodynamics.h"
+#include "internal/MessageFormat.h"
 #include "internal/RotnePragerYamakawa.h"
 #include "openmm/OpenMMException.h"
 #include <cmath>
+#include <limits>
 
 using namespace RigidLangevinPlugin;
+using namespace RigidLangevinPlugin::MessageFormat;
 using OpenMM::OpenMMException;
 using OpenMM::Vec3;
 using std::vector;
@@ -70,6 +74,45 @@ PeriodicRotnePragerYamakawa::PeriodicRotnePragerYamakawa(const Vec3 boxVectors[3
     waveCutoff = 2*xi*std::sqrt(WaveCutoffX);
 }
 
+Vec3 PeriodicRotnePragerYamakawa::reduced(Vec3 d) const {
+    d -= box[2]*std::round(d.dot(reciprocal[2])/(2*M_PI));
+    d -= box[1]*std::round(d.dot(reciprocal[1])/(2*M_PI));
+    d -= box[0]*std::round(d.dot(reciprocal[0])/(2*M_PI));
+    return d;
+}
+
+double PeriodicRotnePragerYamakawa::getSmallestWidth() const {
+    double width = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 3; i++)
+        width = std::min(width, 2*M_PI/std::sqrt(reciprocal[i].dot(reciprocal[i])));
+    return width;
+}
+
+void PeriodicRotnePragerYamakawa::validate(const std::string& caller, const vector<Vec3>& positions, const vector<double>& radii,
+                                           const std::function<std::string (int)>& names) const {
+    const double halfWidth = 0.5*getSmallestWidth();
+    for (int i = 0; i < (int) radii.size(); i++)
+        if (!(2*radii[i] < halfWidth))
+            throw OpenMMException(caller+": "+names(i)+" has radius "+str(radii[i])+" nm, too large for the periodic box: a blob's diameter must be under "
+                    "half the box's smallest width ("+str(halfWidth)+" nm), so that blobs overlap no more than the nearest image of each other (as a "
+                    "body must be narrower than half the box). Use a larger box, or smaller blobs (radius under "+str(0.5*halfWidth)+" nm)");
+    // The same sphere through the box: sorted by the distance from the planes of box vectors 1
+    // and 2, wrapped into the box.
+    const double spacing = 2*M_PI/std::sqrt(reciprocal[0].dot(reciprocal[0]));
+    vector<double> keys(positions.size());
+    for (int i = 0; i < (int) positions.size(); i++) {
+        double s = positions[i].dot(reciprocal[0])/(2*M_PI);
+        keys[i] = (s-std::floor(s))*spacing;
+    }
+    std::pair<int, int> same = BeadHydrodynamics::findCoincident(keys, spacing, [&](int i, int j) { return reduced(positions[j]-positions[i]); }, radii);
+    if (same.first >= 0) {
+        int i = same.first, j = same.second;
+        throw OpenMMException(caller+": "+names(i)+" and "+names(j)+" are the same sphere through the periodic box: they are a box vector apart ("+
+                describe(positions[i])+" and "+describe(positions[j])+" nm), with radius "+str(radii[i])+" nm, so their mobility would be singular. "
+                "Remove one of them (positions on both faces of the box, such as 0 and the box's side, are the same place)");
+    }
+}
+
 void PeriodicRotnePragerYamakawa::realSpaceBlock(const Vec3& d, double ai, double aj, double block[9]) const {
     RotnePragerYamakawa::mobilityBlock(d[0], d[1], d[2], ai, aj, block);
     // G = A I + B rr: the trapezoid rule on the even integrand (band-limited to a_i + a_j + r, times
@@ -108,11 +151,8 @@ Eigen::MatrixXd PeriodicRotnePragerYamakawa::mobility(const vector<Vec3>& positi
     }
     for (int i = 0; i < n; i++)
         for (int j = i; j < n; j++) {
-            Vec3 d = positions[j]-positions[i];
             // Into the box's reduced cell first, so that the image ranges cover the cutoff.
-            d -= box[2]*std::round(d.dot(reciprocal[2])/(2*M_PI));
-            d -= box[1]*std::round(d.dot(reciprocal[1])/(2*M_PI));
-            d -= box[0]*std::round(d.dot(reciprocal[0])/(2*M_PI));
+            Vec3 d = reduced(positions[j]-positions[i]);
             const double pairCutoff = radii[i]+radii[j]+realCutoffBeyondContact;
             double sum[9] = {0};
             for (int u = -range[0]; u <= range[0]; u++)

@@ -1,10 +1,11 @@
 #include "internal/RotnePragerBlake.h"
 #include "internal/BeadHydrodynamics.h"
 #include "internal/CoupledResistanceMath.h"
+#include "internal/MessageFormat.h"
 #include "internal/RotnePragerYamakawa.h"
-#include <sstream>
 
 using namespace RigidLangevinPlugin;
+using namespace RigidLangevinPlugin::MessageFormat;
 using OpenMM::OpenMMException;
 using OpenMM::Vec3;
 using std::vector;
@@ -49,29 +50,27 @@ inline void addPairProduct(const RaisedBlob& i, const RaisedBlob& j, const doubl
     v[2] += (isotropic+c[0])*f[2]+free*dz+dyadic*rz+c[3]*(dx*f[0]+dy*f[1]+rz*f[2])+c[4]*f[2];
 }
 
-std::string number(double value) {
-    std::ostringstream s;
-    s << value;
-    return s.str();
-}
-
 } // namespace
 
-void RotnePragerBlake::validate(const std::string& caller, const vector<Vec3>& positions, const vector<double>& radii, double wallZ) {
+void RotnePragerBlake::validate(const std::string& caller, const vector<Vec3>& positions, const vector<double>& radii, double wallZ,
+                                const std::function<std::string (int)>& names) {
+    auto name = [&] (int i) { return names ? names(i) : "blob "+std::to_string(i); };
     if (!std::isfinite(wallZ))
-        throw OpenMMException(caller+": the wall's height is "+number(wallZ)+"; give a finite z (nm)");
+        throw OpenMMException(caller+": the wall's height is "+str(wallZ)+"; give a finite z (nm)");
     vector<Vec3> raised(positions);
+    vector<double> keys(positions.size());
     for (int i = 0; i < (int) positions.size(); i++) {
         const double h = positions[i][2]-wallZ;
         if (!(h > 0) || !std::isfinite(h))
-            throw BlobBelowWallException(caller+": blob "+std::to_string(i)+" has its centre at z = "+number(positions[i][2])+" nm, at or below the no-slip wall at z = "+
-                                         number(wallZ)+" nm; the fluid is above the wall, so every blob's centre must be too: place its body above the wall", i);
+            throw BlobBelowWallException(caller+": "+name(i)+" has its centre at z = "+str(positions[i][2])+" nm, at or below the no-slip wall at z = "+
+                                         str(wallZ)+" nm; the fluid is above the wall, so every blob's centre must be too: place its body above the wall", i);
         raised[i][2] = wallZ+evaluatedHeight(h, radii[i]);
+        keys[i] = positions[i][0];
     }
-    std::pair<int, int> same = BeadHydrodynamics::findCoincident(raised, radii);
+    std::pair<int, int> same = BeadHydrodynamics::findCoincident(keys, 0, [&] (int i, int j) { return raised[i]-raised[j]; }, radii);
     if (same.first >= 0)
-        throw OpenMMException(caller+": blobs "+std::to_string(same.first)+" and "+std::to_string(same.second)+" have the same radius and lie one above the other "
-                              "within a radius of the wall; its mobility is evaluated with such blobs raised to one radius above the wall, where these two become the "
+        throw OpenMMException(caller+": "+name(same.first)+" and "+name(same.second)+" have the same radius and lie one above the other within a radius "
+                              "of the wall; its mobility is evaluated with such blobs raised to one radius above the wall, where these two become the "
                               "same sphere and the mobility singular: move them apart or keep one of them");
 }
 

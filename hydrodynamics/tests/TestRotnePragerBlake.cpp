@@ -188,13 +188,13 @@ TEST(RotnePragerBlake, RefusesBlobsAtOrBelowTheWall) {
     coupled.addBody({positions[0], positions[1]}, {0.2, 0.2}, positions[0]);
     coupled.addBody({positions[2], positions[3]}, {0.2, 0.2}, positions[3]);
     coupled.setWall(0.25);
-    expectThrowMentioning([&] () { coupled.getResistance(); }, {"body 1 has its blob 0 at z = 0.2 nm", "wall at z = 0.25 nm"});
+    expectThrowMentioning([&] () { coupled.getResistance(); }, {"CoupledResistance::getResistance: blob 0 of body 1 has its centre at z = 0.2 nm", "wall at z = 0.25 nm"});
     expectThrowMentioning([&] () { coupled.setPeriodicBox(box[0], box[1], box[2]); }, {"periodic box", "not supported"});
     CoupledResistance periodic;
     periodic.setPeriodicBox(box[0], box[1], box[2]);
     expectThrowMentioning([&] () { periodic.setWall(0); }, {"periodic box", "not supported"});
     expectThrowMentioning([&] () { RotnePragerBlake::validate("test", {Vec3(0, 0, 0.05), Vec3(0, 0, 0.15)}, {0.2, 0.2}, 0); },
-                          {"blobs 0 and 1", "same sphere"});
+                          {"blob 0 and blob 1", "same sphere"});
     RotnePragerBlake::validate("test", {Vec3(0, 0, 0.05), Vec3(0, 0, 0.15)}, {0.2, 0.25}, 0);  // unequal: distinct when raised
 }
 
@@ -241,8 +241,8 @@ TEST(RotnePragerBlake, CoupledResistanceAboveTheWall) {
     KrylovSolvers::Operator identity = [] (const Eigen::VectorXd& in, Eigen::VectorXd& out) { out = in; };
     for (int c = 0; c < 12; c++) {
         Eigen::VectorXd x;
-        double residual;
-        EXPECT_GT(KrylovSolvers::conjugateGradient(product, identity, k.col(c), x, 1e-12, 300, residual), 0);
+        KrylovSolvers::Result result = KrylovSolvers::conjugateGradient(product, identity, k.col(c), x, 1e-12, 300);
+        EXPECT_EQ(result.outcome, KrylovSolvers::Converged) << KrylovSolvers::explain(result);
         krylov.col(c) = k.transpose()*x;
     }
     EXPECT_LT((krylov-r).cwiseAbs().maxCoeff(), 1e-9*r.cwiseAbs().maxCoeff());

@@ -220,13 +220,19 @@ public:
      * blobs matrix-free (conjugate gradients for the friction, Lanczos for the noise, each
      * preconditioned by every body's own blocks, to the relative residual of
      * setHydrodynamicTolerance(); setHydrodynamicSolver() and setKrylovMinBlobs() choose; a solve that
-     * does not converge throws; in a periodic box with the Ewald-summed mobility formed once a
+     * does not converge, or finds the mobility not positive definite, throws naming it; in a periodic
+     * box with the Ewald-summed mobility formed once a
      * step), dense below that. On OpenCL and CUDA the coupled step is taken on the host, the blobs'
      * mobility products of the Krylov solves in an unbounded solvent on the device (a tiled kernel,
      * double precision; a device without double precision is refused). In a periodic System the blobs feel
      * every image of every body (an Ewald sum of their mobility, exact for any box; see
      * CoupledResistance::setPeriodicBox()), so a lone body in a box of side L is slowed by
-     * Hasimoto's finite-size correction, about 2.84 a/L for a sphere of radius a.
+     * Hasimoto's finite-size correction, about 2.84 a/L for a sphere of radius a. Each step first
+     * checks the blobs, dense or not, and names the body and blob it refuses: positions must be
+     * finite, no two blobs may be the same sphere (on one body or two, or through the periodic
+     * box), and in a periodic box every blob's diameter must be under half the box's smallest
+     * width (the least distance between opposite faces), as a body must be narrower than half the
+     * box, so that blobs overlap only the nearest image of each other.
      *
      * The step is BAOAB's (setScheme(BAOAB)) with the friction step the midpoint rule for all bodies
      * at once: it keeps the Maxwell distribution of velocities exactly at any friction and step,

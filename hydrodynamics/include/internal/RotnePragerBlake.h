@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -130,10 +131,11 @@ private:
  * its message beginning with caller, naming the first blob whose centre is at or below the wall
  * (or not finite); an OpenMMException naming two blobs that the regularisation raises to the same
  * sphere (equal radii, the same x and y, both within their radius of the wall), which would make M
- * singular. Radii must be positive (BeadHydrodynamics::validate()).
+ * singular. Blobs are named by names if given ("blob i" otherwise). Radii must be positive
+ * (BeadHydrodynamics::validate()).
  */
 OPENMM_EXPORT_HYDRODYNAMICS void validate(const std::string& caller, const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii,
-                                          double wallZ);
+                                          double wallZ, const std::function<std::string (int blob)>& names = nullptr);
 
 /**
  * The blobs' regularised Rotne-Prager-Blake mobility M~ per unit viscosity above the wall z = wallZ,

@@ -2,6 +2,7 @@
 #define RIGID_LANGEVIN_HYDRODYNAMIC_INTERACTIONS_H_
 
 #include "internal/BlobMobility.h"
+#include "internal/CoupledResistanceMath.h"
 #include "internal/RigidBodyModel.h"
 #include <Eigen/Cholesky>
 #include "internal/windowsExportRigidLangevin.h"
@@ -60,9 +61,14 @@ public:
      *
      * with z = 2 M_b u + xi, u' = (M_b + c R)^-1 z - u. Each solve is preconditioned by every body's
      * own blocks (fixed in its frame, so factorised once per body type) and stopped at relative
-     * residual tolerance; one that does not converge in maxIterations throws, saying which and what
-     * to do. normals: 3 per blob. The products of M are mobility's (given the blobs here: on the
-     * host, HostBlobMobility; on a device, the platform's own).
+     * residual tolerance. The blobs are checked first as the dense path checks them
+     * (CoupledResistanceMath::validateBlobs: finite, no two the same sphere, in a box not too
+     * large for it), naming the body and blob; a solve that does not converge in maxIterations,
+     * finds its operator not positive definite or meets a product that is not finite throws, naming
+     * which solve (the Lanczos square root or the conjugate gradients for the noise, or those for
+     * the friction), why (KrylovSolvers::explain) and what to do. normals: 3 per blob. The
+     * products of M are mobility's (given the blobs here: on the host, HostBlobMobility; on a
+     * device, the platform's own).
      */
     KrylovIterations krylovFrictionStep(const std::vector<BodyState>& states, double viscosity, double kT, double h, const Eigen::VectorXd& normals,
                                         Eigen::VectorXd& u, double tolerance, int maxIterations, BlobMobility& mobility,
@@ -77,6 +83,8 @@ private:
         mutable double frictionScale;                   // the c of friction below
         mutable Eigen::LLT<Eigen::MatrixXd> friction;   // M/c + K' M_b^-1 K'^T for this body alone (body frame), factorised
     };
+    /** The bodies' names for messages about their blobs (RigidBodyModel::getBodyName). */
+    CoupledResistanceMath::BodyNames bodyNames() const;
     /** The blobs' lab positions and radii, all bodies in order. */
     void placeBlobs(const std::vector<BodyState>& states, std::vector<OpenMM::Vec3>& positions, std::vector<double>& radii) const;
     const RigidBodyModel& model;
