@@ -67,6 +67,8 @@ void RotnePragerBlake::validate(const std::string& caller, const vector<Vec3>& p
         raised[i][2] = wallZ+evaluatedHeight(h, radii[i]);
         keys[i] = positions[i][0];
     }
+    if (positions.empty())
+        return;
     std::pair<int, int> same = BeadHydrodynamics::findCoincident(keys, 0, [&] (int i, int j) { return raised[i]-raised[j]; }, radii);
     if (same.first >= 0)
         throw OpenMMException(caller+": "+name(same.first)+" and "+name(same.second)+" have the same radius and lie one above the other within a radius "
