@@ -122,8 +122,9 @@ TEST(PeriodicRotnePragerYamakawa, PairFarFromItsImagesIsTheFreePairShifted) {
                 worst = std::max(worst, std::abs(m(k, 3+n)-free[3*k+n]+(k == n ? Hasimoto/(6*M_PI*l) : 0.0)));
         double orderL3 = 1/(6*M_PI*l*l*l);
         EXPECT_LT(worst, 10*orderL3) << "L " << l;
-        if (previous > 0)
+        if (previous > 0) {
             EXPECT_NEAR(worst/previous, 1.0/8, 0.03) << "L " << l;
+        }
         previous = worst;
     }
 }
