@@ -86,7 +86,29 @@ void PseGaussianGrid::setBlobs(const vector<Vec3>& positions, const vector<int>&
 }
 
 
+namespace RigidLangevinPlugin {
+
+/** One blob's support: its P factors along each axis, its first grid point, the grid. */
+struct PseBlobSupport {
+    const double* w;
+    const int* base;
+    int p;
+    const int* grid;
+    const double* cross;  // null in a rectangular box (all ones)
+};
+
+} // namespace RigidLangevinPlugin
+
 namespace {
+
+// The per-blob loops in two builds, one for CPUs with AVX2 and FMA (x86-64-v3) and one for the
+// baseline, chosen when the library is loaded (GCC's target_clones, as the host step's loop);
+// flatten compiles what they call into each build. Other compilers build the baseline.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__ELF__)
+#define RIGIDLANGEVIN_PSE_CLONES __attribute__((target_clones("arch=x86-64-v3", "default"), flatten))
+#else
+#define RIGIDLANGEVIN_PSE_CLONES
+#endif
 
 /** The grid indices, wrapped, of the support from first on an axis of m points (p <= m). */
 inline void supportIndices(int first, int p, int m, int* index) {
@@ -94,34 +116,30 @@ inline void supportIndices(int first, int p, int m, int* index) {
         index[n] = (first+n >= m ? first+n-m : first+n);
 }
 
-} // namespace
-
-template <bool Cross>
-void PseGaussianGrid::spreadBlob(int i, int n0, const double force[3], double* plane) const {
-    const int p = support;
-    const double* w = &factors[(size_t) 3*p*i];
+/** Blob s's share of plane n0 of its support. */
+RIGIDLANGEVIN_PSE_CLONES void spreadBlob(const PseBlobSupport& s, int n0, const double force[3], double* plane) {
+    const int p = s.p;
     int index1[PseMaxSupport], index2[PseMaxSupport];
-    supportIndices(base[3*i+1], p, grid[1], index1);
-    supportIndices(base[3*i+2], p, grid[2], index2);
+    supportIndices(s.base[1], p, s.grid[1], index1);
+    supportIndices(s.base[2], p, s.grid[2], index2);
     // Along the last axis the support is contiguous unless it wraps: then one loop of 3P
     // multiply-adds over the interleaved components, which vectorises.
-    const bool contiguous = (base[3*i+2]+p <= grid[2]);
+    const bool contiguous = (s.base[2]+p <= s.grid[2] && s.cross == nullptr);
     double weightedForce[3*PseMaxSupport];
     for (int n2 = 0; n2 < p; n2++)
         for (int c = 0; c < 3; c++)
-            weightedForce[3*n2+c] = w[2*p+n2]*force[c];
+            weightedForce[3*n2+c] = s.w[2*p+n2]*force[c];
     for (int n1 = 0; n1 < p; n1++) {
-        const double w01 = w[n0]*w[p+n1];
-        const double* crossRow = &cross[(n0*p+n1)*p];
-        double* row = plane+(size_t) index1[n1]*grid[2]*3;
-        if (contiguous && !Cross) {
-            double* point = row+3*base[3*i+2];
+        const double w01 = s.w[n0]*s.w[p+n1];
+        double* row = plane+(size_t) index1[n1]*s.grid[2]*3;
+        if (contiguous) {
+            double* point = row+3*s.base[2];
             for (int k = 0; k < 3*p; k++)
                 point[k] += w01*weightedForce[k];
             continue;
         }
         for (int n2 = 0; n2 < p; n2++) {
-            const double weight = w01*(Cross ? crossRow[n2] : 1.0);
+            const double weight = w01*(s.cross == nullptr ? 1.0 : s.cross[(n0*p+n1)*p+n2]);
             double* point = row+3*index2[n2];
             for (int c = 0; c < 3; c++)
                 point[c] += weight*weightedForce[3*n2+c];
@@ -129,30 +147,28 @@ void PseGaussianGrid::spreadBlob(int i, int n0, const double force[3], double* p
     }
 }
 
-template <bool Cross>
-void PseGaussianGrid::interpolateBlob(int i, const double* in, double u[3]) const {
-    const int p = support;
-    const double* w = &factors[(size_t) 3*p*i];
+/** u = blob s's Gaussian times the grid in, over its support. */
+RIGIDLANGEVIN_PSE_CLONES void interpolateBlob(const PseBlobSupport& s, const double* in, double u[3]) {
+    const int p = s.p;
     int index0[PseMaxSupport], index1[PseMaxSupport], index2[PseMaxSupport];
-    supportIndices(base[3*i], p, grid[0], index0);
-    supportIndices(base[3*i+1], p, grid[1], index1);
-    supportIndices(base[3*i+2], p, grid[2], index2);
-    const bool contiguous = (base[3*i+2]+p <= grid[2]);
+    supportIndices(s.base[0], p, s.grid[0], index0);
+    supportIndices(s.base[1], p, s.grid[1], index1);
+    supportIndices(s.base[2], p, s.grid[2], index2);
+    const bool contiguous = (s.base[2]+p <= s.grid[2] && s.cross == nullptr);
     // The sums of the last axis's weights times the grid, per interleaved component (as spreading).
     double sums[3*PseMaxSupport] = {0};
     for (int n0 = 0; n0 < p; n0++)
         for (int n1 = 0; n1 < p; n1++) {
-            const double w01 = w[n0]*w[p+n1];
-            const double* crossRow = &cross[(n0*p+n1)*p];
-            const double* row = in+((size_t) index0[n0]*grid[1]+index1[n1])*grid[2]*3;
-            if (contiguous && !Cross) {
-                const double* point = row+3*base[3*i+2];
+            const double w01 = s.w[n0]*s.w[p+n1];
+            const double* row = in+((size_t) index0[n0]*s.grid[1]+index1[n1])*s.grid[2]*3;
+            if (contiguous) {
+                const double* point = row+3*s.base[2];
                 for (int k = 0; k < 3*p; k++)
                     sums[k] += w01*point[k];
                 continue;
             }
             for (int n2 = 0; n2 < p; n2++) {
-                const double weight = w01*(Cross ? crossRow[n2] : 1.0);
+                const double weight = w01*(s.cross == nullptr ? 1.0 : s.cross[(n0*p+n1)*p+n2]);
                 const double* point = row+3*index2[n2];
                 for (int c = 0; c < 3; c++)
                     sums[3*n2+c] += weight*point[c];
@@ -161,7 +177,13 @@ void PseGaussianGrid::interpolateBlob(int i, const double* in, double u[3]) cons
     u[0] = u[1] = u[2] = 0;
     for (int n2 = 0; n2 < p; n2++)
         for (int c = 0; c < 3; c++)
-            u[c] += w[2*p+n2]*sums[3*n2+c];
+            u[c] += s.w[2*p+n2]*sums[3*n2+c];
+}
+
+} // namespace
+
+PseBlobSupport PseGaussianGrid::blobSupport(int i) const {
+    return {&factors[(size_t) 3*support*i], &base[3*i], support, grid, (orthogonal ? nullptr : cross.data())};
 }
 
 void PseGaussianGrid::spread(const Eigen::VectorXd& f, int g, double* out, const ParallelFor& parallel) const {
@@ -178,10 +200,7 @@ void PseGaussianGrid::spread(const Eigen::VectorXd& f, int g, double* out, const
                 for (int k = starts[first]; k < starts[first+1]; k++) {
                     const int i = groupBlobs[k];
                     const double force[3] = {f[3*i], f[3*i+1], f[3*i+2]};
-                    if (orthogonal)
-                        spreadBlob<false>(i, n0, force, plane);
-                    else
-                        spreadBlob<true>(i, n0, force, plane);
+                    spreadBlob(blobSupport(i), n0, force, plane);
                 }
             }
         }
@@ -194,10 +213,7 @@ void PseGaussianGrid::interpolate(const double* in, int g, Eigen::VectorXd& out,
         for (int k = first+begin; k < first+end; k++) {
             const int i = groupBlobs[k];
             double u[3];
-            if (orthogonal)
-                interpolateBlob<false>(i, in, u);
-            else
-                interpolateBlob<true>(i, in, u);
+            interpolateBlob(blobSupport(i), in, u);
             for (int c = 0; c < 3; c++)
                 out[3*i+c] = u[c];
         }

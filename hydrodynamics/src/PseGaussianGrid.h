@@ -9,6 +9,8 @@
 
 namespace RigidLangevinPlugin {
 
+struct PseBlobSupport;
+
 /**
  * Spreading of the blobs' forces onto the positively split Ewald grid and interpolation back, both
  * with the normalised Gaussian g(x) = (2 pi sigma^2)^-3/2 exp(-|x|^2/2 sigma^2) truncated to the
@@ -34,11 +36,8 @@ public:
     void interpolate(const double* grid, int g, Eigen::VectorXd& out, const ParallelFor& parallel) const;
 private:
     void blobWeights(const OpenMM::Vec3& position, const OpenMM::Vec3 box[3], const OpenMM::Vec3 inverse[3], int i);
-    /** Blob i's share of plane n0 of its support (Cross: the box is not rectangular). */
-    template <bool Cross>
-    void spreadBlob(int i, int n0, const double force[3], double* plane) const;
-    template <bool Cross>
-    void interpolateBlob(int i, const double* in, double u[3]) const;
+    /** Blob i's factors, first grid point and the grid, for the per-blob loops. */
+    PseBlobSupport blobSupport(int i) const;
     int grid[3], support;
     bool orthogonal;             // a rectangular box: the shared table is all ones
     double sigma;

@@ -7,23 +7,21 @@
 #include "internal/HasimotoSplit.h"
 #include "internal/PeriodicRotnePragerYamakawa.h"
 #include "internal/RotnePragerYamakawa.h"
+#include "PeriodicTestHelpers.h"
 #include "openmm/OpenMMException.h"
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 #include <iostream>
 #include <random>
-#include <thread>
 
 using namespace RigidLangevinPlugin;
+using namespace PeriodicTestHelpers;
 using OpenMM::OpenMMException;
 using OpenMM::Vec3;
 using std::vector;
 
 namespace {
-
-/** Hasimoto's (1959) constant of the simple cubic lattice, to ten digits (Beenakker 1986 gives 2.837297). */
-const double Hasimoto = 2.8372974795;
 
 const Vec3 Cube[3] = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
 
@@ -84,16 +82,6 @@ void quadratureSmoothPart(double r, double ai, double aj, double xi, double& a, 
         a += weight*(2.0/3.0*j0-j2/3);
         b += weight*j2;
     }
-}
-
-KrylovSolvers::ParallelFor threads(int numThreads) {
-    return [numThreads] (int count, const std::function<void (int, int)>& task) {
-        vector<std::thread> workers;
-        for (int t = 0; t < numThreads; t++)
-            workers.emplace_back(task, (int) ((long long) count*t/numThreads), (int) ((long long) count*(t+1)/numThreads));
-        for (std::thread& worker : workers)
-            worker.join();
-    };
 }
 
 } // namespace

@@ -6,33 +6,20 @@
 
 #include "internal/PeriodicRotnePragerYamakawa.h"
 #include "internal/PositivelySplitEwald.h"
+#include "PeriodicTestHelpers.h"
 #include "openmm/OpenMMException.h"
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 #include <iostream>
 #include <random>
-#include <thread>
 
 using namespace RigidLangevinPlugin;
+using namespace PeriodicTestHelpers;
 using OpenMM::OpenMMException;
 using OpenMM::Vec3;
 using std::vector;
 
 namespace {
-
-/** Hasimoto's (1959) constant of the simple cubic lattice. */
-const double Hasimoto = 2.8372974795;
-
-/** A ParallelFor on numThreads threads of its own, each given one contiguous range. */
-KrylovSolvers::ParallelFor threads(int numThreads) {
-    return [numThreads] (int count, const std::function<void (int, int)>& task) {
-        vector<std::thread> workers;
-        for (int t = 0; t < numThreads; t++)
-            workers.emplace_back(task, (int) ((long long) count*t/numThreads), (int) ((long long) count*(t+1)/numThreads));
-        for (std::thread& worker : workers)
-            worker.join();
-    };
-}
 
 /** A cube of side l, or a triclinic box (OpenMM's reduced form) of about the same volume. */
 void makeBox(bool triclinic, double l, Vec3 box[3]) {
@@ -53,6 +40,17 @@ void randomBlobs(int n, const vector<double>& choices, const Vec3 box[3], int se
     }
     positions[1] = positions[0]+Vec3(0.3, -0.2, 0.1)*radii[0];
 }
+
+/** A box of side about l and n blobs in it (randomBlobs). */
+struct Scene {
+    Scene(int n, const vector<double>& choices, bool triclinic, double l, int seed) {
+        makeBox(triclinic, l, box);
+        randomBlobs(n, choices, box, seed, positions, radii);
+    }
+    Vec3 box[3];
+    vector<Vec3> positions;
+    vector<double> radii;
+};
 
 Eigen::VectorXd randomForces(int n, int seed) {
     std::mt19937 random(seed);
@@ -96,17 +94,13 @@ TEST(PositivelySplitEwald, AgreesWithTheDenseEwaldAtTheTolerance) {
     double worst = 0;
     for (bool triclinic : {false, true})
         for (const vector<double>& choices : vector<vector<double> >{{0.3}, {0.3, 0.18}, {0.25, 0.4, 0.2}}) {
-            Vec3 box[3];
-            makeBox(triclinic, 4.2, box);
-            vector<Vec3> positions;
-            vector<double> radii;
-            randomBlobs(60, choices, box, 7+choices.size(), positions, radii);
-            Eigen::MatrixXd dense = PeriodicRotnePragerYamakawa(box).mobility(positions, radii);
+            Scene scene(60, choices, triclinic, 4.2, 7+choices.size());
+            Eigen::MatrixXd dense = PeriodicRotnePragerYamakawa(scene.box).mobility(scene.positions, scene.radii);
             for (double tolerance : {1e-3, 1e-6, 1e-9}) {
                 PositivelySplitEwald chosen(tolerance);
-                chosen.setBlobs(positions, radii, box);
+                chosen.setBlobs(scene.positions, scene.radii, scene.box);
                 PositivelySplitEwald more(tolerance, 1.5*chosen.getSplitting());
-                more.setBlobs(positions, radii, box);
+                more.setBlobs(scene.positions, scene.radii, scene.box);
                 for (PositivelySplitEwald* pse : {&chosen, &more}) {
                     double error = worstRelativeError(*pse, dense);
                     EXPECT_LT(error, tolerance) << "triclinic " << triclinic << ", " << choices.size() << " radii, epsilon " << tolerance << ", xi "
@@ -141,14 +135,10 @@ TEST(PositivelySplitEwald, BothPartsAreSymmetricPositiveSemidefinite) {
     // The wave-space part exactly (interpolation is spreading's transpose, each mode's factor
     // positive): symmetric and no eigenvalue below -1e-14 of the largest; the real-space part up to
     // its cutoff's error epsilon; and together the dense M to epsilon.
-    Vec3 box[3];
-    makeBox(true, 3.5, box);
-    vector<Vec3> positions;
-    vector<double> radii;
-    randomBlobs(20, {0.3, 0.2}, box, 5, positions, radii);
+    Scene scene(20, {0.3, 0.2}, true, 3.5, 5);
     const double tolerance = 1e-6;
     PositivelySplitEwald pse(tolerance);
-    pse.setBlobs(positions, radii, box);
+    pse.setBlobs(scene.positions, scene.radii, scene.box);
     Eigen::MatrixXd wave = formMatrix([&] (const Eigen::VectorXd& f, Eigen::VectorXd& u) { pse.multiplyWaveSpace(f, u); }, 60);
     Eigen::MatrixXd real = formMatrix([&] (const Eigen::VectorXd& f, Eigen::VectorXd& u) { pse.multiplyRealSpace(f, u); }, 60);
     const double scale = (wave+real).cwiseAbs().maxCoeff();
@@ -156,7 +146,7 @@ TEST(PositivelySplitEwald, BothPartsAreSymmetricPositiveSemidefinite) {
     EXPECT_LT((real-real.transpose()).cwiseAbs().maxCoeff(), 1e-14*scale);
     EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(wave).eigenvalues()[0], -1e-14*scale);
     EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(real).eigenvalues()[0], -tolerance*scale);
-    Eigen::MatrixXd dense = PeriodicRotnePragerYamakawa(box).mobility(positions, radii);
+    Eigen::MatrixXd dense = PeriodicRotnePragerYamakawa(scene.box).mobility(scene.positions, scene.radii);
     EXPECT_LT((wave+real-dense).norm(), tolerance*dense.norm());
 }
 
@@ -167,14 +157,10 @@ TEST(PositivelySplitEwald, NoiseCovarianceIsTheMobilityModeByMode) {
     // 0.0075: the 4 SE tolerance (0.030) fails a 5% error in the noise's variance (6.7 SE); each
     // mode alone is held to 5 SE (0.16); the off-diagonal covariances, n C_kl^2 summed, to 5 SD of
     // their chi^2. At epsilon 1e-3 the PSE's M is the dense one to 1e-4, far below these errors.
-    Vec3 box[3];
-    makeBox(true, 5.0, box);
-    vector<Vec3> positions;
-    vector<double> radii;
-    randomBlobs(6, {0.3, 0.2}, box, 3, positions, radii);
+    Scene scene(6, {0.3, 0.2}, true, 5.0, 3);
     PositivelySplitEwald pse(1e-3);
-    pse.setBlobs(positions, radii, box);
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(PeriodicRotnePragerYamakawa(box).mobility(positions, radii));
+    pse.setBlobs(scene.positions, scene.radii, scene.box);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(PeriodicRotnePragerYamakawa(scene.box).mobility(scene.positions, scene.radii));
     Eigen::MatrixXd whiten = eigen.eigenvalues().cwiseSqrt().cwiseInverse().asDiagonal()*eigen.eigenvectors().transpose();
     std::mt19937_64 random(2024);
     std::normal_distribution<double> gaussian;
@@ -209,14 +195,10 @@ TEST(PositivelySplitEwald, ThreadsGiveTheSameAnswers) {
     // Every stage shares out whole rows, planes or lines: the same numbers on three threads, in a
     // cube (rectangular spreading) and a triclinic box.
     for (bool triclinic : {false, true}) {
-        Vec3 box[3];
-        makeBox(triclinic, 6.0, box);
-        vector<Vec3> positions;
-        vector<double> radii;
-        randomBlobs(300, {0.3, 0.2}, box, 9, positions, radii);
+        Scene scene(300, {0.3, 0.2}, triclinic, 6.0, 9);
         PositivelySplitEwald sequential(1e-5), parallel(1e-5, 0, threads(3));
-        sequential.setBlobs(positions, radii, box);
-        parallel.setBlobs(positions, radii, box);
+        sequential.setBlobs(scene.positions, scene.radii, scene.box);
+        parallel.setBlobs(scene.positions, scene.radii, scene.box);
         Eigen::VectorXd f = randomForces(300, 4), u, v;
         sequential.multiply(f, u);
         parallel.multiply(f, v);
@@ -246,11 +228,7 @@ void expectError(const std::function<void ()>& work, const std::string& words) {
 } // namespace
 
 TEST(PositivelySplitEwald, RejectsBadInputNamingTheSetting) {
-    Vec3 box[3];
-    makeBox(false, 5.0, box);
-    vector<Vec3> positions;
-    vector<double> radii;
-    randomBlobs(50, {0.3}, box, 2, positions, radii);
+    Scene scene(50, {0.3}, false, 5.0, 2);
     for (double tolerance : {0.0, -1e-3, 0.2, std::nan("")})
         expectError([&] { PositivelySplitEwald pse(tolerance); }, "out of range");
     expectError([&] { PositivelySplitEwald pse(1e-13); }, "below what double precision reaches");
@@ -259,27 +237,27 @@ TEST(PositivelySplitEwald, RejectsBadInputNamingTheSetting) {
     PositivelySplitEwald pse(1e-6);
     Eigen::VectorXd u;
     expectError([&] { pse.multiply(Eigen::VectorXd::Zero(150), u); }, "setBlobs() before");
-    expectError([&] { pse.setBlobs(positions, radii); }, "needs a periodic box");
+    expectError([&] { pse.setBlobs(scene.positions, scene.radii); }, "needs a periodic box");
     // A cutoff that the box cannot hold: the splitting given is too small, or the blobs too large.
-    expectError([&] { PositivelySplitEwald(1e-6, 1.0).setBlobs(positions, radii, box); }, "raise xi above");
-    expectError([&] { pse.setBlobs({Vec3(), Vec3(1, 1, 1)}, {1.3, 0.3}, box); }, "too small for blobs of radius 1.3");
-    vector<double> manyRadii = radii;
+    expectError([&] { PositivelySplitEwald(1e-6, 1.0).setBlobs(scene.positions, scene.radii, scene.box); }, "raise xi above");
+    expectError([&] { pse.setBlobs({Vec3(), Vec3(1, 1, 1)}, {1.3, 0.3}, scene.box); }, "too small for blobs of radius 1.3");
+    vector<double> manyRadii = scene.radii;
     for (int i = 0; i < 5; i++)
         manyRadii[i] = 0.1+0.05*i;
-    expectError([&] { pse.setBlobs(positions, manyRadii, box); }, "at most 4");
-    vector<double> badRadii = radii;
+    expectError([&] { pse.setBlobs(scene.positions, manyRadii, scene.box); }, "at most 4");
+    vector<double> badRadii = scene.radii;
     badRadii[7] = 0;
-    expectError([&] { pse.setBlobs(positions, badRadii, box); }, "radius of blob 7");
-    vector<Vec3> badPositions = positions;
+    expectError([&] { pse.setBlobs(scene.positions, badRadii, scene.box); }, "radius of blob 7");
+    vector<Vec3> badPositions = scene.positions;
     badPositions[3][1] = std::nan("");
-    expectError([&] { pse.setBlobs(badPositions, radii, box); }, "position of blob 3");
+    expectError([&] { pse.setBlobs(badPositions, scene.radii, scene.box); }, "position of blob 3");
     // Over the memory budget: a small budget, or a grid of 10^13 points, refused before allocating.
     PositivelySplitEwald small(1e-6);
     small.setMemoryBudget(1e5);
-    expectError([&] { small.setBlobs(positions, radii, box); }, "memory budget");
+    expectError([&] { small.setBlobs(scene.positions, scene.radii, scene.box); }, "memory budget");
     Vec3 huge[3];
     makeBox(false, 2000.0, huge);
     expectError([&] { PositivelySplitEwald(1e-6, 5.0).setBlobs({Vec3(), Vec3(5, 0, 0)}, {0.3, 0.3}, huge); }, "setMemoryBudget");
-    pse.setBlobs(positions, radii, box);
+    pse.setBlobs(scene.positions, scene.radii, scene.box);
     expectError([&] { pse.multiply(Eigen::VectorXd::Zero(149), u); }, "3 per blob");
 }
