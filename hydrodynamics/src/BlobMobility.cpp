@@ -8,7 +8,7 @@ void HostBlobMobility::setBlobs(const std::vector<OpenMM::Vec3>& positions, cons
     this->positions = positions;
     this->radii = radii;
     if (boxVectors != NULL)
-        stored = PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii);
+        stored = PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii, parallel);
     else if ((int) positions.size() <= MaxStoredBlobs)
         stored = CoupledResistanceMath::mobilityMatrix(positions, radii, parallel);
     else
