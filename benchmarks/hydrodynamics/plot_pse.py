@@ -28,7 +28,7 @@ def series(rows, epsilon, name):
 def main():
     if len(sys.argv) != 3:
         sys.exit("usage: plot_pse.py results.csv results.png")
-    with open(sys.argv[1], newline="") as f:
+    with open(sys.argv[1], newline="", encoding='utf-8') as f:
         rows = list(csv.DictReader(f))
     if not rows:
         sys.exit(f"{sys.argv[1]} holds no measurements")
@@ -67,4 +67,5 @@ def main():
 
 
 if __name__ == "__main__":
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()
