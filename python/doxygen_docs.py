@@ -44,7 +44,7 @@ def run_doxygen(folder):
                         'GENERATE_HTML = NO', 'GENERATE_LATEX = NO', 'QUIET = YES', 'WARNINGS = NO', 'EXTRACT_ALL = NO',
                         'ENABLE_PREPROCESSING = YES', 'MACRO_EXPANSION = YES',
                         'PREDEFINED = OPENMM_EXPORT_RIGIDLANGEVIN= OPENMM_EXPORT_HYDRODYNAMICS=', 'XML_PROGRAMLISTING = NO'])
-    subprocess.run(['doxygen', '-'], input=config, text=True, check=True, capture_output=True)
+    subprocess.run(['doxygen', '-'], input=config, encoding='utf-8', check=True, capture_output=True)
     return pathlib.Path(folder)/'xml'
 
 
@@ -196,5 +196,5 @@ def docstrings_interface(classes):
 
 
 if __name__ == '__main__':
-    DOCSTRINGS.write_text(docstrings_interface(read_headers()))
+    DOCSTRINGS.write_text(docstrings_interface(read_headers()), encoding='utf-8')
     print(f'wrote {DOCSTRINGS}')

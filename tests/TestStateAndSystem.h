@@ -152,7 +152,6 @@ TEST_P(StateAndSystem, SchemeChangedAfterContextCreation) {
 }
 
 TEST_P(StateAndSystem, SerializationRoundTrip) {
-    const PlatformConfig& platform = GetParam();
     RigidLangevinIntegrator integrator(310.5, 536.0, 0.0015);
     integrator.setScheme(RigidLangevinIntegrator::BAOAB);
     integrator.setRandomNumberSeed(42);

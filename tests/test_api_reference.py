@@ -13,7 +13,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 def test_api_reference_and_docstrings_are_current():
     # docs/api.md and python/docstrings.i are what scripts/api_reference.py makes of the headers and
     # the package now: a header comment changed without regenerating them fails.
-    result = subprocess.run([sys.executable, str(ROOT/'scripts'/'api_reference.py'), '--check'], capture_output=True, text=True, timeout=300)
+    result = subprocess.run([sys.executable, str(ROOT/'scripts'/'api_reference.py'), '--check'], capture_output=True, encoding='utf-8', timeout=300)
     assert result.returncode == 0, result.stdout+result.stderr
 
 

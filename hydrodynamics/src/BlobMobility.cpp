@@ -8,7 +8,7 @@
 using namespace RigidLangevinPlugin;
 using OpenMM::OpenMMException;
 
-void BlobMobility::setWall(double wallZ) {
+void BlobMobility::setWall(double /*wallZ*/) {
     throw OpenMMException("BlobMobility::setWall: this implementation of the blobs' mobility has no no-slip wall");
 }
 
@@ -28,7 +28,7 @@ void HostBlobMobility::setBlobs(const std::vector<OpenMM::Vec3>& positions, cons
     this->positions = positions;
     this->radii = radii;
     if (boxVectors != NULL)
-        stored = PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii);
+        stored = PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii, parallel);
     else if ((int) positions.size() > maxStoredBlobs)
         stored.resize(0, 0);
     else if (wall)

@@ -41,8 +41,8 @@ public:
  * bytes: 130 MB at the limit) and each product is a matrix-vector product, several times cheaper
  * than evaluating every pair's block again; beyond, every product evaluates the pairs
  * (matrix-free). Both share their rows out by parallel. In a periodic box M is always formed (the
- * Ewald sum of every pair's images and the wave-space sum, once per setBlobs(), on the calling
- * thread: PeriodicRotnePragerYamakawa has no matrix-free product yet), whatever the number of blobs.
+ * dense Ewald sum of every pair's images and the wave-space sum, once per setBlobs(), shared out by
+ * parallel), whatever the number of blobs; PositivelySplitEwald is the matrix-free periodic product.
  * Above a wall a pair's block costs about twice an unbounded one's (its image part), formed or
  * matrix-free alike.
  */

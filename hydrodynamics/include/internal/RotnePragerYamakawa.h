@@ -25,20 +25,18 @@ namespace RigidLangevinPlugin {
 namespace RotnePragerYamakawa {
 
 /**
- * The block mu_ij for beads of radii ai and aj whose centres are a squared distance r2 apart, as
- * two scalars: mu_ij = isotropic I + dyadicPerR2 d d^T for the offset d between them (either sign).
- * Both radii must be positive.
+ * mu_ij = isotropic I + dyadic rr (rr the unit vector's outer product) for beads of radii ai and aj
+ * at distance r >= 0. Both radii must be positive.
  */
-inline void pairCoefficients(double r2, double ai, double aj, double& isotropic, double& dyadicPerR2) {
-    const double r = std::sqrt(r2);
-    double dyadic;  // the coefficient of the unit vector's outer product
+inline void mobilityCoefficients(double r, double ai, double aj, double& isotropic, double& dyadic) {
     if (r > ai+aj) {
-        const double sigma2 = (ai*ai+aj*aj)/r2;
+        const double sigma2 = (ai*ai+aj*aj)/(r*r);
         isotropic = (1+sigma2/3)/(8*M_PI*r);
         dyadic = (1-sigma2)/(8*M_PI*r);
     }
     else if (r > std::abs(ai-aj)) {
         const double d2 = (ai-aj)*(ai-aj);
+        const double r2 = r*r;
         const double r3 = r2*r;
         const double scale = 1/(6*M_PI*ai*aj*32*r3);
         const double s = d2+3*r2;
@@ -51,6 +49,15 @@ inline void pairCoefficients(double r2, double ai, double aj, double& isotropic,
         isotropic = 1/(6*M_PI*std::fmax(ai, aj));
         dyadic = 0;
     }
+}
+
+/**
+ * The same block as two scalars for a squared distance r2 between centres: mu_ij = isotropic I +
+ * dyadicPerR2 d d^T for the offset d between them (either sign), as products over many pairs use it.
+ */
+inline void pairCoefficients(double r2, double ai, double aj, double& isotropic, double& dyadicPerR2) {
+    double dyadic;
+    mobilityCoefficients(std::sqrt(r2), ai, aj, isotropic, dyadic);
     dyadicPerR2 = (r2 > 0 ? dyadic/r2 : 0.0);
 }
 

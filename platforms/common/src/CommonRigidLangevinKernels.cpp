@@ -112,7 +112,7 @@ void CommonIntegrateRigidLangevinStepKernel::initialize(const System& system, co
     cc.addReorderListener(new AtomOrderListener(*this));
 }
 
-void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& context, const RigidBodyModel& model) {
+void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& /*context*/, const RigidBodyModel& model) {
     ContextSelector selector(cc);
     numBodies = model.getNumBodies();
 
@@ -394,7 +394,7 @@ void CommonIntegrateRigidLangevinStepKernel::downloadStates(vector<BodyState>& s
     }
 }
 
-void CommonIntegrateRigidLangevinStepKernel::uploadBodyStates(ContextImpl& context, const vector<BodyState>& states) {
+void CommonIntegrateRigidLangevinStepKernel::uploadBodyStates(ContextImpl& /*context*/, const vector<BodyState>& states) {
     if (numBodies == 0)
         return;
     ContextSelector selector(cc);
@@ -408,7 +408,7 @@ void CommonIntegrateRigidLangevinStepKernel::uploadBodyStates(ContextImpl& conte
     placeAtoms();
 }
 
-void CommonIntegrateRigidLangevinStepKernel::downloadBodyStates(ContextImpl& context, vector<BodyState>& states) {
+void CommonIntegrateRigidLangevinStepKernel::downloadBodyStates(ContextImpl& /*context*/, vector<BodyState>& states) {
     if (numBodies == 0) {
         states.clear();
         return;
@@ -420,7 +420,7 @@ void CommonIntegrateRigidLangevinStepKernel::downloadBodyStates(ContextImpl& con
         downloadStates<float, mm_float4>(states);
 }
 
-void CommonIntegrateRigidLangevinStepKernel::uploadCoefficients(ContextImpl& context, const vector<TypeStepCoefficients>& coefficients) {
+void CommonIntegrateRigidLangevinStepKernel::uploadCoefficients(ContextImpl& /*context*/, const vector<TypeStepCoefficients>& coefficients) {
     ContextSelector selector(cc);
     for (int t = 0; t < (int) coefficients.size(); t++) {
         const TypeStepCoefficients& c = coefficients[t];
@@ -524,7 +524,7 @@ void CommonIntegrateRigidLangevinStepKernel::advanceCoupledBodies(ContextImpl& c
     uploadBodyStates(context, states);
 }
 
-void CommonIntegrateRigidLangevinStepKernel::computeBodyKineticEnergies(ContextImpl& context, double timeShift,
+void CommonIntegrateRigidLangevinStepKernel::computeBodyKineticEnergies(ContextImpl& /*context*/, double timeShift,
         double& translational, double& rotational, Vec3& momentum) {
     translational = rotational = 0;
     momentum = Vec3();

@@ -73,7 +73,7 @@ protected:
         return threads.getNumThreads();
     }
     void runThreads(const std::function<void (int)>& task) {
-        threads.execute([&] (OpenMM::ThreadPool& pool, int thread) {task(thread);});
+        threads.execute([&] (OpenMM::ThreadPool& /*pool*/, int thread) {task(thread);});
         threads.waitForThreads();
     }
 private:

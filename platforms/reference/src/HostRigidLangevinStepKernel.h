@@ -69,24 +69,24 @@ protected:
     int chunkBegin(int chunk) const {
         return chunkStart[chunk];
     }
-    void initializeBodies(OpenMM::ContextImpl& context, const RigidBodyModel& model) {
+    void initializeBodies(OpenMM::ContextImpl& /*context*/, const RigidBodyModel& model) {
         bodies.resize(model.getNumBodies());
         particleStores = hostParticleStores(model);
     }
-    void uploadBodyStates(OpenMM::ContextImpl& context, const std::vector<BodyState>& states) {
-        forEachChunk([&] (int chunk, int begin, int end) {
+    void uploadBodyStates(OpenMM::ContextImpl& /*context*/, const std::vector<BodyState>& states) {
+        forEachChunk([&] (int /*chunk*/, int begin, int end) {
             for (int b = begin; b < end; b++) {
                 bodies.store(b, states[b]);
                 model->placeBodyParticles(b, states[b], *data.positions, *data.velocities);
             }
         });
     }
-    void downloadBodyStates(OpenMM::ContextImpl& context, std::vector<BodyState>& states) {
+    void downloadBodyStates(OpenMM::ContextImpl& /*context*/, std::vector<BodyState>& states) {
         states.resize(bodies.size());
         for (int b = 0; b < bodies.size(); b++)
             states[b] = bodies.load(b);
     }
-    void uploadCoefficients(OpenMM::ContextImpl& context, const std::vector<TypeStepCoefficients>& c) {
+    void uploadCoefficients(OpenMM::ContextImpl& /*context*/, const std::vector<TypeStepCoefficients>& /*coefficients*/) {
         // The base class keeps them in `coefficients`; they are read in place.
     }
     /** Run task over [0, count) in ranges, on the platform's threads where it has them. */
@@ -115,7 +115,7 @@ protected:
         data.time += h;
         data.stepCount++;
     }
-    void computeBodyKineticEnergies(OpenMM::ContextImpl& context, double timeShift, double& translational, double& rotational, OpenMM::Vec3& momentum) {
+    void computeBodyKineticEnergies(OpenMM::ContextImpl& /*context*/, double timeShift, double& translational, double& rotational, OpenMM::Vec3& momentum) {
         int numChunks = getNumChunks();
         std::vector<double> chunkTranslational(numChunks), chunkRotational(numChunks);
         std::vector<OpenMM::Vec3> chunkMomentum(numChunks);

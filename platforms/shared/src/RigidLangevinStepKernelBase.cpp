@@ -126,7 +126,7 @@ bool RigidLangevinStepKernelBase::kineticEnergyRequiresForce(const RigidLangevin
     return integratorVelocityOffset(integrator) != 0;
 }
 
-void RigidLangevinStepKernelBase::stateChanged(ContextImpl& context, State::DataType changed) {
+void RigidLangevinStepKernelBase::stateChanged(ContextImpl& /*context*/, State::DataType changed) {
     if (changed != State::Positions && changed != State::Velocities)
         return;
     if (ignoreStateChanges) {
@@ -254,7 +254,7 @@ void RigidLangevinStepKernelBase::restoreFromState(ContextImpl& context, const S
         model->readTypes(types, saved);
         saved.states = states;
         model->checkSavedTypes(saved, "State");
-        restoreSavedBodies(context, saved, "State");
+        restoreSavedBodies(context, saved);
     });
 }
 
@@ -269,7 +269,7 @@ void RigidLangevinStepKernelBase::refuseStepsIfRestoreFails(const std::string& s
     refusedRestore.clear();
 }
 
-void RigidLangevinStepKernelBase::restoreSavedBodies(ContextImpl& context, const SavedBodies& saved, const std::string& source) {
+void RigidLangevinStepKernelBase::restoreSavedBodies(ContextImpl& context, const SavedBodies& saved) {
     // The file's particles are in the context; the first time, the body types are built from them.
     if (!bodiesInitialized)
         fitBodiesToParticles(context);
@@ -330,7 +330,7 @@ void RigidLangevinStepKernelBase::loadCheckpoint(ContextImpl& context, std::istr
         if (!in)
             throw OpenMMException("RigidLangevinIntegrator: the checkpoint is truncated (it ends inside the body states or the random number generator)");
         model->checkSavedTypes(saved, "checkpoint");
-        restoreSavedBodies(context, saved, "checkpoint");
+        restoreSavedBodies(context, saved);
         ignoreStateChanges = true;
     });
 }

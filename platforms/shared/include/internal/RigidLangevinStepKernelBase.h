@@ -120,7 +120,7 @@ private:
      * context already): its exact body states where they describe this System's bodies
      * (RigidBodyModel::restoreStates()), else fitted to the restored particles.
      */
-    void restoreSavedBodies(OpenMM::ContextImpl& context, const SavedBodies& saved, const std::string& source);
+    void restoreSavedBodies(OpenMM::ContextImpl& context, const SavedBodies& saved);
     /**
      * Run a restore; if it throws, refuse to step (and to read body states) until positions are set
      * or a restore succeeds: OpenMM has already put the file's positions, velocities, time and box
