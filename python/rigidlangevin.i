@@ -513,6 +513,7 @@ class CoupledResistance {
 public:
     CoupledResistance();
     void setPeriodicBox(const Vec3& a, const Vec3& b, const Vec3& c);
+    void setWall(double z0);
     int addBody(const std::vector<Vec3>& blobPositions, const std::vector<double>& blobRadii, const Vec3& origin);
     int getNumBodies() const;
     void setBodyResistance(int body, const ResistanceTensor& own);

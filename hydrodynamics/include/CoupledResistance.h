@@ -73,6 +73,23 @@ public:
      */
     void setPeriodicBox(const OpenMM::Vec3& a, const OpenMM::Vec3& b, const OpenMM::Vec3& c);
     /**
+     * Bound the fluid below by a no-slip wall, the plane z = z0 (nm), the bodies above it: the
+     * blobs' mobility M is then Rotne-Prager-Blake's (the Rotne-Prager-Yamakawa tensor plus the
+     * wall's image system; Swan & Brady, Phys. Fluids 19, 113306 (2007), any radii), with blobs
+     * closer to the wall than their radius regularised as Balboa Usabiaga, Delmotte & Donev do (J.
+     * Chem. Phys. 146, 134104 (2017): evaluated at a radius above it, damped by their height over
+     * their radius), so that R stays symmetric positive definite. A lone blob of radius a at
+     * height h then has the mobility (1 - 9x/16 + x^3/8 - x^5/16)/(6 pi a) along the wall and
+     * (1 - 9x/8 + x^3/2 - x^5/8)/(6 pi a) across it, x = a/h. R now depends on where the bodies
+     * are, not only on where they are relative to each other: with one body added it is that
+     * body's resistance at its height and orientation. getResistance() refuses a blob whose centre
+     * is at or below the wall, naming its body. A calibrated body (setBodyResistance()) is
+     * calibrated alone in an unbounded solvent, where its own tensor belongs; above the wall it
+     * then also feels the wall. A wall and a periodic box together are not supported: the second
+     * of setWall() and setPeriodicBox() throws.
+     */
+    void setWall(double z0);
+    /**
      * Add a body.
      *
      * @param blobPositions  the centres of its blobs (nm), where the body is
@@ -114,8 +131,9 @@ private:
     std::vector<std::vector<double> > radii;
     std::vector<OpenMM::Vec3> origins;
     std::vector<std::vector<double> > ownResistance;  // about the body's origin; empty if not calibrated
-    bool periodic;
+    bool periodic, wall;
     OpenMM::Vec3 box[3];
+    double wallZ;
 };
 
 } // namespace RigidLangevinPlugin

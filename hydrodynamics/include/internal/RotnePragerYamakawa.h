@@ -52,16 +52,24 @@ inline void mobilityCoefficients(double r, double ai, double aj, double& isotrop
 }
 
 /**
+ * The same block as two scalars for a squared distance r2 between centres: mu_ij = isotropic I +
+ * dyadicPerR2 d d^T for the offset d between them (either sign), as products over many pairs use it.
+ */
+inline void pairCoefficients(double r2, double ai, double aj, double& isotropic, double& dyadicPerR2) {
+    double dyadic;
+    mobilityCoefficients(std::sqrt(r2), ai, aj, isotropic, dyadic);
+    dyadicPerR2 = (r2 > 0 ? dyadic/r2 : 0.0);
+}
+
+/**
  * The 3x3 block mu_ij (row-major in block) for beads of radii ai and aj, bead j at offset
  * (dx, dy, dz) from bead i. Both radii must be positive. The block is symmetric and unchanged by
  * swapping the beads.
  */
 inline void mobilityBlock(double dx, double dy, double dz, double ai, double aj, double block[9]) {
-    const double r2 = dx*dx+dy*dy+dz*dz;
-    double isotropic, dyadic;  // block = isotropic*I + dyadic*(d d^T)/r^2
-    mobilityCoefficients(std::sqrt(r2), ai, aj, isotropic, dyadic);
+    double isotropic, dyadicPerR2;
+    pairCoefficients(dx*dx+dy*dy+dz*dz, ai, aj, isotropic, dyadicPerR2);
     const double d[3] = {dx, dy, dz};
-    const double dyadicPerR2 = (r2 > 0 ? dyadic/r2 : 0.0);
     for (int k = 0; k < 3; k++)
         for (int l = 0; l < 3; l++)
             block[3*k+l] = dyadicPerR2*d[k]*d[l]+(k == l ? isotropic : 0.0);
