@@ -198,7 +198,7 @@ def banana_report(out, settings, xi, solvent, box_stage, explicit_stage, implici
     box = explicit_stage.inputs['box']
     scene = pr.scene_box_result(box_stage)
     rows, explicit_replicas = diffusion_rows(settings, explicit_stage, implicit_stages, solvent, box)
-    with open(out/'diffusion.csv', 'w', newline='') as f:
+    with open(out/'diffusion.csv', 'w', newline='', encoding='utf-8') as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
@@ -238,7 +238,7 @@ def banana_report(out, settings, xi, solvent, box_stage, explicit_stage, implici
               f'{uncorrected:.4f} ± {uncorrected*d_t_box_err/d_t_box:.4f} cP):', '', *answer, '',
               'Velocity autocorrelation of the bananas\' centres of mass, normalised (explicit against implicit at 0.289 cP):', '',
               *vacf_lines(dict([('explicit', explicit_stage)]+list(zip(runs.IMPLICIT_SCHEMES, implicit_stages)))), '']
-    (out/'diffusion.md').write_text('\n'.join(lines))
+    (out/'diffusion.md').write_text('\n'.join(lines), encoding='utf-8')
     correlations_report(out, explicit_stage, implicit_stages)
 
 
@@ -248,7 +248,7 @@ def correlations_report(out, explicit_stage, implicit_stages):
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4))
-    with open(out/'correlations.csv', 'w', newline='') as f:
+    with open(out/'correlations.csv', 'w', newline='', encoding='utf-8') as f:
         writer = csv.writer(f)
         writer.writerow(['run', 'quantity', 't (ps)', 'mean', 'standard error'])
         for name, stage in [('explicit', explicit_stage)]+list(zip(runs.IMPLICIT_SCHEMES, implicit_stages)):

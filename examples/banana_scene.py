@@ -128,7 +128,7 @@ def tensor_comparison(settings, out):
               'ellipsoid to 3%, while its rotational block is 3-4 times one ellipsoid\'s: no rigid union of these ellipsoids has both, '
               'so the source\'s tensor is not reproducible from its description; the ratio of its smallest to largest rotational '
               'resistance (0.18) is what set our bend.', '']
-    (out/'tensor.md').write_text('\n'.join(lines))
+    (out/'tensor.md').write_text('\n'.join(lines), encoding='utf-8')
     return xi
 
 
@@ -403,9 +403,10 @@ def main(argv=None):
         sys.exit(f'banana_scene.py: {error}')
     if study.rank == 0 and not args.no_report:
         for name in write_report(out, settings, xi, density, viscosity, box, explicit, implicit):
-            print((out/name).read_text(), flush=True)
+            print((out/name).read_text(encoding='utf-8'), flush=True)
         print(f'total {time.time()-started:.0f} s', flush=True)
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()

@@ -138,7 +138,7 @@ def heating_curves(pdb, args):
 
 def write_outputs(out, control, times, curves, heating_speeds):
     out.mkdir(parents=True, exist_ok=True)
-    with open(out/'temperature_control.csv', 'w', newline='') as f:
+    with open(out/'temperature_control.csv', 'w', newline='', encoding='utf-8') as f:
         writer = csv.DictWriter(f, fieldnames=list(control[0]))
         writer.writeheader()
         writer.writerows(control)
@@ -148,13 +148,13 @@ def write_outputs(out, control, times, curves, heating_speeds):
         lines.append(f"| {r['viscosity (P)']} | {r['source <T> (K)']} | {r['source T rms (K)']} | "
                      f"{r['<T> (K)']:.2f} ± {r['standard error (K)']:.2f} | {r['T rms (K)']:.2f} | "
                      f"{r['<T translational> (K)']:.2f} | {r['<T rotational> (K)']:.2f} | {r['ns/day']:.1f} |")
-    (out/'temperature_control.md').write_text('\n'.join(lines)+'\n')
-    with open(out/'heating_curve.csv', 'w', newline='') as f:
+    (out/'temperature_control.md').write_text('\n'.join(lines)+'\n', encoding='utf-8')
+    with open(out/'heating_curve.csv', 'w', newline='', encoding='utf-8') as f:
         writer = csv.writer(f)
         writer.writerow(['time (ps)']+[f'{label} T (K)' for label in curves])
         for i, t in enumerate(times):
             writer.writerow([f'{t:.3f}']+[f'{curves[label][i]:.3f}' for label in curves])
-    with open(out/'timings.csv', 'w', newline='') as f:
+    with open(out/'timings.csv', 'w', newline='', encoding='utf-8') as f:
         writer = csv.writer(f)
         writer.writerow(['run', 'ns/day'])
         for r in control:
@@ -202,4 +202,5 @@ def main(argv=None):
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     sys.exit(main())

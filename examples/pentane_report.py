@@ -104,7 +104,7 @@ def solvent_report(out, settings, density_stage, viscosity_stages, viscosities):
               'found their viscosities underestimated the more the denser and colder the liquid (by up to 80%), the sign of '
               'this model\'s '+' and '.join(f'{100*(form["eta0"]*CP/ps.EXPERIMENT_VISCOSITY-1):+.0f}% ({FORMS[key].split(" (")[0]})'
                                             for key, form in taken.items())+'.', '']
-    (out/'pentane.md').write_text('\n'.join(lines))
+    (out/'pentane.md').write_text('\n'.join(lines), encoding='utf-8')
     density_plot(out, density_stage, density, viscosities, fits, box)
     return taken
 

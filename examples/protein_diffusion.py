@@ -17,6 +17,7 @@ test.pdb):
 
     python examples/protein_diffusion.py [file.pdb ...] [--copies 64] [--time 1000] [--quick]
 """
+import sys
 import argparse
 import os
 import time
@@ -141,4 +142,5 @@ def main():
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()

@@ -22,6 +22,7 @@ prints the table. The committed results are the full run written there on purpos
 
     python examples/sedimenting_cloud.py --out examples/results/sedimenting_cloud
 """
+import sys
 import argparse
 import math
 import os
@@ -132,7 +133,7 @@ def main():
     lines += ['', f'Expected: without interactions U0 exactly; with them the spheres\' RPY mobility times F at each sampled configuration, '
                   f'averaged. For point forces in a uniform cloud of this size, 1 + 6/5 (N-1) a/R = {oseen:.3f}.']
     text = '\n'.join(lines)+'\n'
-    with open(os.path.join(out, 'table.md'), 'w') as f:
+    with open(os.path.join(out, 'table.md'), 'w', encoding='utf-8') as f:
         f.write(text)
     print(text)
 
@@ -154,4 +155,5 @@ def main():
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()

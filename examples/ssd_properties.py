@@ -33,6 +33,7 @@ Writes table.md and properties.csv to --out.
     python examples/ssd_properties.py              # about 27 minutes on 2 cores (9 per row)
     python examples/ssd_properties.py --quick      # a minute: the machinery, not the numbers
 """
+import sys
 import argparse
 import csv
 import math
@@ -214,7 +215,7 @@ def measure(model, switch, platform, args, seed):
 
 def write(out, rows, args):
     """properties.csv and table.md."""
-    with open(out/'properties.csv', 'w', newline='') as f:
+    with open(out/'properties.csv', 'w', newline='', encoding='utf-8') as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
@@ -233,7 +234,7 @@ def write(out, rows, args):
                      f"{r['published D']} ± {r['published D +-']} | {r['D minus published, in standard errors']:+.1f} | "
                      f"{r['potential per molecule (kJ/mol)']:.2f} ± {r['potential per molecule +-']:.2f} | "
                      f"{r['NVE T (K)']:.1f} ± {r['NVE T +-']:.1f} | {r['largest NVE drift (kJ/mol/ns per molecule)']:.2g} |")
-    (out/'table.md').write_text('\n'.join(lines)+'\n')
+    (out/'table.md').write_text('\n'.join(lines)+'\n', encoding='utf-8')
     print('\n'.join(lines))
 
 
@@ -265,4 +266,5 @@ def main(argv=None):
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     raise SystemExit(main())

@@ -23,6 +23,7 @@ The temperature is that of the bodies' 6 degrees of freedom each (6 x 256 = 1536
 mass constraint, as in the source); an ideal canonical sample has rms fluctuation 300 K sqrt(2/1536)
 = 10.8 K.
 """
+import sys
 import argparse
 import csv
 import math
@@ -121,7 +122,7 @@ def main():
                      'source_rms_T': SOURCE[viscosity][1], 'ns_per_day': f'{run_ps*1e-3*86400/seconds:.3g}'})
         print(f'  {viscosity:g} P: mean {mean:.2f} ± {mean_error:.2f} K, rms {rms:.2f} ± {rms_error:.2f} K '
               f'({run_ps:g} ps, {seconds:.0f} s)', flush=True)
-    with open(out/'temperatures.csv', 'w', newline='') as f:
+    with open(out/'temperatures.csv', 'w', newline='', encoding='utf-8') as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
@@ -130,7 +131,7 @@ def main():
              '| viscosity (P) | mean T (K) | rms T (K) | source mean T | source rms T |', '|---|---|---|---|---|']
     lines += [f"| {r['viscosity_poise']} | {r['mean_T']} ± {r['mean_T_error']} | {r['rms_T']} ± {r['rms_T_error']} | "
               f"{r['source_mean_T']} | {r['source_rms_T']} |" for r in rows]
-    (out/'table.md').write_text('\n'.join(lines)+'\n')
+    (out/'table.md').write_text('\n'.join(lines)+'\n', encoding='utf-8')
     print('\n'+'\n'.join(lines)+'\n', flush=True)
 
     # Heating from 173 K: cool the equilibrated configuration (at 0.01 P, for the reason above), then heat.
@@ -152,7 +153,7 @@ def main():
         context.applyVelocityConstraints(1e-8)
         curves[label] = sample(integrator, context, dof, heating_ps)
     times = np.arange(1, len(curves['NVE'])+1)*10*STEP
-    with open(out/'heating.csv', 'w', newline='') as f:
+    with open(out/'heating.csv', 'w', newline='', encoding='utf-8') as f:
         writer = csv.writer(f)
         writer.writerow(['time_ps']+list(curves))
         writer.writerows(zip(times, *curves.values()))
@@ -180,4 +181,5 @@ def main():
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()

@@ -83,7 +83,7 @@ class Stage:
         manifest = self.path/'stage.json'
         definition = _plain(definition)
         if manifest.exists():
-            stored = json.loads(manifest.read_text())
+            stored = json.loads(manifest.read_text(encoding='utf-8'))
             if stored.get('definition') != definition:
                 differ = sorted(k for k in set(definition) | set(stored.get('definition', {}))
                                 if definition.get(k) != stored.get('definition', {}).get(k))
@@ -98,7 +98,7 @@ class Stage:
             self.path.mkdir(parents=True, exist_ok=True)
             self.inputs = _plain(inputs)
             temporary = manifest.with_suffix(f'.{os.getpid()}.tmp')  # processes started apart may start a stage together
-            temporary.write_text(json.dumps({'name': name, 'definition': definition, 'inputs': self.inputs}, indent=1, sort_keys=True))
+            temporary.write_text(json.dumps({'name': name, 'definition': definition, 'inputs': self.inputs}, indent=1, sort_keys=True), encoding='utf-8')
             os.replace(temporary, manifest)
         self.definition = definition
 

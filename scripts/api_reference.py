@@ -82,13 +82,13 @@ def main():
     page, interface = reference()
     if args.check:
         stale = [str(path.relative_to(ROOT)) for path, text in ((API, page), (doxygen_docs.DOCSTRINGS, interface))
-                 if not path.exists() or path.read_text() != text]
+                 if not path.exists() or path.read_text(encoding='utf-8') != text]
         if stale:
             sys.exit(f'stale: {", ".join(stale)}; run .venv/bin/python scripts/api_reference.py (after rebuilding the Python module)')
         print('docs/api.md and python/docstrings.i are current')
         return
-    API.write_text(page)
-    doxygen_docs.DOCSTRINGS.write_text(interface)
+    API.write_text(page, encoding='utf-8')
+    doxygen_docs.DOCSTRINGS.write_text(interface, encoding='utf-8')
     print(f'wrote {API} and {doxygen_docs.DOCSTRINGS}')
 
 

@@ -90,7 +90,7 @@ fi
 step "configuring the build (cmake)"
 cmake -G Ninja -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE="$BUILD_TYPE" \
       -DOPENMM_DIR="$OPENMM_DIR" -DPython3_EXECUTABLE="$VENV/bin/python" -DSWIG_EXECUTABLE="$VENV/bin/swig" \
-      -DRIGIDLANGEVIN_BUILD_EXAMPLES=ON -DRIGIDLANGEVIN_BUILD_BENCHMARKS=ON >"$ROOT/build.log" 2>&1 \
+      -DRIGIDLANGEVIN_BUILD_EXAMPLES=ON -DRIGIDLANGEVIN_BUILD_BENCHMARKS=ON -DRIGIDLANGEVIN_WARNINGS_AS_ERRORS=ON >"$ROOT/build.log" 2>&1 \
     || { tail -30 "$ROOT/build.log" >&2; fail "cmake configure (full log: build.log)"; }
 step "building (ninja -j$JOBS)"
 cmake --build "$BUILD" -j "$JOBS" >>"$ROOT/build.log" 2>&1 \

@@ -2,6 +2,8 @@
 // test executable links) rather than in each test: their Eigen solvers took about 6 s of every
 // test file's compile time.
 #include "RigidBodyTestUtilities.h"
+#include "openmm/OpenMMException.h"
+#include <gtest/gtest.h>
 
 namespace RigidBodyTest {
 
@@ -211,6 +213,18 @@ bool runsEveryStatisticalCase(const PlatformConfig& config) {
 
 OpenMM::Context* createContext(OpenMM::System& system, OpenMM::Integrator& integrator, const PlatformConfig& config) {
     return new OpenMM::Context(system, integrator, config.get(), config.properties());
+}
+
+void expectError(const std::function<void ()>& action, const std::vector<std::string>& fragments) {
+    try {
+        action();
+        ADD_FAILURE() << "expected an OpenMMException mentioning '" << fragments[0] << "'";
+    }
+    catch (const OpenMM::OpenMMException& e) {
+        std::string message = e.what();
+        for (const std::string& fragment : fragments)
+            EXPECT_NE(std::string::npos, message.find(fragment)) << "message: " << message;
+    }
 }
 
 double Series::mean() const {

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <map>
 #include <ostream>
 #include <string>
@@ -222,6 +223,9 @@ struct PlatformConfigName {
 
 /** A Context on a platform in its precision. */
 OpenMM::Context* createContext(OpenMM::System& system, OpenMM::Integrator& integrator, const PlatformConfig& config);
+
+/** Expect action to throw an OpenMMException whose message contains every one of fragments. */
+void expectError(const std::function<void ()>& action, const std::vector<std::string>& fragments);
 
 /**
  * An environment variable set while in scope, for the Contexts made then, and put back as it was

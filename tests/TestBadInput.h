@@ -18,19 +18,6 @@ using namespace RigidBodyTest;
 
 namespace {
 
-/** Expect an OpenMMException whose message contains every one of the given fragments. */
-void expectError(std::function<void()> action, std::vector<std::string> fragments) {
-    try {
-        action();
-        ADD_FAILURE() << "expected an OpenMMException mentioning '" << fragments[0] << "'";
-    }
-    catch (const OpenMMException& e) {
-        std::string message = e.what();
-        for (const std::string& fragment : fragments)
-            EXPECT_NE(std::string::npos, message.find(fragment)) << "message: " << message;
-    }
-}
-
 /** A system of n particles of mass 10 with radius-bearing Lennard-Jones parameters. */
 System particles(int n) {
     System system;

@@ -16,7 +16,7 @@ using namespace RigidBodyTest;
 namespace {
 
 /** Time averages of the translational and rotational temperatures the integrator reports. */
-void averageTemperatures(Context& context, RigidLangevinIntegrator& integrator, int stride, int samples, Series& translational, Series& rotational) {
+void averageTemperatures(Context& /*context*/, RigidLangevinIntegrator& integrator, int stride, int samples, Series& translational, Series& rotational) {
     for (int i = 0; i < samples; i++) {
         integrator.step(stride);
         translational.add(integrator.computeTranslationalTemperature());

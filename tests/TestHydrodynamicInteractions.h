@@ -256,6 +256,31 @@ struct TrappedCube {
     }
 };
 
+/** Two free particles with blobs of radius 0.3 nm in a periodic cube of 2 nm, at (0.5, 0.5, 0.5) and second (BAOAB with interactions). */
+struct PeriodicPair {
+    System system;
+    RigidLangevinIntegrator integrator;
+    std::unique_ptr<Context> context;
+    PeriodicPair(const PlatformConfig& config, const Vec3& second) : integrator(300, 536, 0.002) {
+        for (int i = 0; i < 2; i++)
+            system.addParticle(10.0);
+        system.setDefaultPeriodicBoxVectors(Vec3(2, 0, 0), Vec3(0, 2, 0), Vec3(0, 0, 2));
+        NonbondedForce* nothing = new NonbondedForce();  // periodic boundaries, no strength
+        nothing->setNonbondedMethod(NonbondedForce::CutoffPeriodic);
+        nothing->setCutoffDistance(0.4);
+        for (int i = 0; i < 2; i++)
+            nothing->addParticle(0, 0.1, 0);
+        nothing->addException(0, 1, 0, 0.1, 0);
+        system.addForce(nothing);
+        integrator.setScheme(RigidLangevinIntegrator::BAOAB);
+        integrator.setHydrodynamicInteractions(true);
+        for (int i = 0; i < 2; i++)
+            integrator.setParticleRadius(i, 0.3);
+        context.reset(createContext(system, integrator, config));
+        context->setPositions({Vec3(0.5, 0.5, 0.5), second});
+    }
+};
+
 } // namespace
 
 class HydrodynamicInteractions : public testing::TestWithParam<PlatformConfig> {
@@ -681,6 +706,34 @@ TEST_P(HydrodynamicInteractions, RefusesWhatItCannotDo) {
             EXPECT_NE(std::string(e.what()).find("cannot turn at all"), std::string::npos) << e.what();
         }
     }
+    {
+        // Two free particles of the same radius in the same place are one sphere held twice by two
+        // bodies: their mobility is singular, refused naming both (dense, and in the Krylov runs
+        // matrix-free, where it once gave a finite, meaningless step).
+        RigidLangevinIntegrator integrator(300, 536, 0.002);
+        integrator.setScheme(RigidLangevinIntegrator::BAOAB);
+        integrator.setHydrodynamicInteractions(true);
+        for (int i = 0; i < 3; i++)
+            integrator.setParticleRadius(i, 0.1);
+        std::unique_ptr<Context> context(createContext(system, integrator, GetParam()));
+        context->setPositions({Vec3(0, 0.3, 0), Vec3(0.3, 0, 0), Vec3(0, 0.3, 0)});
+        expectError([&] { integrator.step(1); }, {"blob 0 of free particle 0 and blob 0 of free particle 2 are coincident"});
+    }
+}
+
+TEST_P(HydrodynamicInteractions, RefusesBlobsThePeriodicBoxCannotHold) {
+    // In a periodic box every blob's diameter must be under half the box's smallest width, and no
+    // two blobs may be one sphere through the box. Both are checked at every step with the box of
+    // the moment (here made smaller by setPeriodicBoxVectors after two steps), densely and, in the
+    // Krylov runs, matrix-free, naming the blob and what to change.
+    PeriodicPair pair(GetParam(), Vec3(1.3, 0.5, 0.5));
+    RigidLangevinIntegrator& integrator = pair.integrator;
+    integrator.step(2);  // blobs 0.6 nm across, under half of 2 nm
+    pair.context->setPeriodicBoxVectors(Vec3(1.1, 0, 0), Vec3(0, 1.1, 0), Vec3(0, 0, 1.1));
+    expectError([&] { integrator.step(1); },
+                {"blob 0 of free particle 0 has radius 0.3 nm, too large for the periodic box", "(0.55 nm)", "larger box", "smaller blobs"});
+    PeriodicPair images(GetParam(), Vec3(2.5, 0.5, -1.5));
+    expectError([&] { images.integrator.step(1); }, {"blob 0 of free particle 0 and blob 0 of free particle 1 are the same sphere through the periodic box"});
 }
 
 INSTANTIATE_TEST_SUITE_P(OnPlatform, HydrodynamicInteractions, testing::ValuesIn(platformConfigs()), PlatformConfigName());

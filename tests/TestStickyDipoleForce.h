@@ -189,8 +189,9 @@ TEST_P(StickyDipoleForceTest, EnergyIsTheDirectSumForEveryModel) {
             // The configuration exercises every term: pairs within the sticky range, and (with a
             // cutoff) pairs in the switching region.
             EXPECT_GT(std::abs(sticky), 10.0);
-            if (withCutoff)
+            if (withCutoff) {
                 EXPECT_GT(switched, 100);
+            }
         }
 }
 

@@ -13,7 +13,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 def test_api_reference_and_docstrings_are_current():
     # docs/api.md and python/docstrings.i are what scripts/api_reference.py makes of the headers and
     # the package now: a header comment changed without regenerating them fails.
-    result = subprocess.run([sys.executable, str(ROOT/'scripts'/'api_reference.py'), '--check'], capture_output=True, text=True, timeout=300)
+    result = subprocess.run([sys.executable, str(ROOT/'scripts'/'api_reference.py'), '--check'], capture_output=True, encoding='utf-8', timeout=300)
     assert result.returncode == 0, result.stdout+result.stderr
 
 
@@ -22,10 +22,11 @@ def test_every_public_method_has_its_header_documentation():
     # of them, and every public function of rigidlangevin.hydrodynamics, has documentation.
     text = lambda value: ' '.join((value.__doc__ or '').split())
     assert 'A particle may belong to at most one body' in text(rl.RigidLangevinIntegrator.addRigidBody)
-    assert 'amu/(nm*ps)' in text(rl.RigidLangevinIntegrator) and 'removeCMMotion=False' in text(rl.RigidLangevinIntegrator)
+    assert 'amu/(nm*ps)' in text(rl.RigidBodyIntegrator) and 'removeCMMotion=False' in text(rl.RigidBodyIntegrator)
+    assert all('RigidBodyIntegrator' in text(c) for c in (rl.RigidLangevinIntegrator, rl.RigidBrownianIntegrator))
     assert 'nm^3 (Xrr)' in text(rl.ResistanceTensor)
     assert '(nm)' in text(hydro.sphere) and 'Quantities' in text(hydro.sphere)
-    for cls in (rl.RigidLangevinIntegrator, rl.StickyDipoleForce, rl.ResistanceTensor):
+    for cls in (rl.RigidBodyIntegrator, rl.RigidLangevinIntegrator, rl.RigidBrownianIntegrator, rl.StickyDipoleForce, rl.ResistanceTensor):
         for name, member in vars(cls).items():
             if name.startswith('_') or not callable(member) or name in ('thisown',):
                 continue

@@ -11,9 +11,9 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 def test_speed_vs_error_study_quick(tmp_path):
     result = subprocess.run([sys.executable, str(ROOT/'benchmarks'/'speed_vs_error'/'study.py'), '--quick', '--parts', 's1', '--out', str(tmp_path)],
-                            capture_output=True, text=True, timeout=600)
+                            capture_output=True, encoding='utf-8', timeout=600)
     assert result.returncode == 0, result.stderr
-    rows = list(csv.DictReader(open(tmp_path/'results.csv')))
+    rows = list(csv.DictReader(open(tmp_path/'results.csv', encoding='utf-8')))
     assert {r['integrator'] for r in rows} == {'ExactFlow', 'BAOAB', 'Original'}
     assert all(float(r['ns/day']) > 0 for r in rows if r['status'] == 'ok')
     assert any(r['status'].startswith('refused') for r in rows if r['integrator'] == 'Original')
@@ -88,21 +88,21 @@ def test_configurational_temperature_verdict_pairs_runs_by_start(tmp_path):
     assert abs(se-6.0/np.sqrt(32)) < 0.2*se and se_difference < 0.1  # 0.3 K * sqrt(2) / sqrt(32) = 0.075 K
     assert abs(difference-3.0) < 4*se_difference
     report.write_configurational(tmp_path, records, 300.0, peer=('ExactFlow', 1.0))
-    lines = {line.split(':')[0]: line for line in (tmp_path/'configurational.md').read_text().splitlines() if line.startswith('- ')}
+    lines = {line.split(':')[0]: line for line in (tmp_path/'configurational.md').read_text(encoding='utf-8').splitlines() if line.startswith('- ')}
     assert all('resolves 1 %' in line for line in lines.values())
     assert float(lines['- ExactFlow 4.0 fs'].split('; ')[-1].split()[0]) > 20
     assert float(lines['- BAOAB 4.0 fs'].split('; ')[-1].split()[0]) < 4
-    with open(tmp_path/'configurational.csv') as f:
+    with open(tmp_path/'configurational.csv', encoding='utf-8') as f:
         assert len(list(csv.DictReader(f))) == 96
     # Replicas appended to a CSV of earlier ones (study.py --tconf-append) give the same table as
     # one run of all: the CSV reads back with the types that pair runs with their peer and starts.
-    table = (tmp_path/'configurational.md').read_text()
+    table = (tmp_path/'configurational.md').read_text(encoding='utf-8')
     first = tmp_path/'first'
     report.write_configurational(first, [r for r in records if r['replica'] < 16], 300.0, peer=('ExactFlow', 1.0))
     earlier = report.read_csv(first/'configurational.csv')
     assert len(earlier) == 48 and all(isinstance(r['replica'], int) and isinstance(r['step (fs)'], float) for r in earlier)
     report.write_configurational(first, earlier+[r for r in records if r['replica'] >= 16], 300.0, peer=('ExactFlow', 1.0))
-    assert (first/'configurational.md').read_text() == table
+    assert (first/'configurational.md').read_text(encoding='utf-8') == table
 
 
 def test_speed_vs_error_s2_replicas_append(tmp_path):
@@ -136,7 +136,7 @@ def test_speed_vs_error_s2_replicas_append(tmp_path):
     exact = [r for r in whole if r['integrator'] == 'ExactFlow' and r['step (fs)'] == 2.0][0]
     d = [r['result']['D translational (nm^2/ps)'] for r in records if not r['reference'] and r['integrator'] == 'ExactFlow']
     assert np.isclose(exact['D translational (nm^2/ps) +-'], np.std(d, ddof=1)/np.sqrt(8))
-    (tmp_path/'bad.json').write_text('[{"replica": 0}]')
+    (tmp_path/'bad.json').write_text('[{"replica": 0}]', encoding='utf-8')
     try:
         study.read_replicas(tmp_path/'bad.json')
     except SystemExit as e:

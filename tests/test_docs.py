@@ -29,7 +29,7 @@ PAIR = re.compile(r'([+−-]?\d+(?:\.\d+)?) ?(?:±|\+-) ?(\d+(?:\.\d+)?)')
 
 def prose(path):
     """The page without its fenced code blocks (a # there is a comment, a [..](..) code)."""
-    return re.sub(r'```.*?```', '', path.read_text(), flags=re.S)
+    return re.sub(r'```.*?```', '', path.read_text(encoding='utf-8'), flags=re.S)
 
 
 def anchors(path):
@@ -69,7 +69,7 @@ def test_the_link_check_can_fail(tmp_path):
     page = tmp_path/'page.md'
     page.write_text('## From C++\n## With `openmm.app`\n## Notes\n## Notes\n```\n# not a heading\n```\n'
                     '[a](#from-c) [b](#with-openmmapp) [c](#notes-1) [d](#not-a-heading) [e](other.md) '
-                    '[f](https://example.org/x#y) [g](page.md#notes) ![h](#from-c)\n')
+                    '[f](https://example.org/x#y) [g](page.md#notes) ![h](#from-c)\n', encoding='utf-8')
     assert broken_links(page) == ['#not-a-heading', 'other.md']
 
 
@@ -85,7 +85,7 @@ def pairs(text):
 
 @pytest.mark.parametrize('page', sorted(RESULTS))
 def test_quoted_results_are_the_results_files(page):
-    held = [pair for pattern in RESULTS[page] for path in sorted(ROOT.glob(pattern)) for pair in pairs(path.read_text())]
+    held = [pair for pattern in RESULTS[page] for path in sorted(ROOT.glob(pattern)) for pair in pairs(path.read_text(encoding='utf-8'))]
     assert held, f'no results for {page}'
     missing = [(value, error) for value, error in pairs(prose(ROOT/page))
                if (value, error) not in NOT_IN_RESULTS.get(page, set())

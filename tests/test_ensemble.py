@@ -61,14 +61,14 @@ def test_mpi_ensemble_on_two_ranks(tmp_path):
         result = run_ensemble(replica, replicas=4, base_seed=10)
         if result is not None:
             print('seeds', result.seeds, 'temperature', result['temperature'][0], result['temperature'][1])
-    '''))
+    '''), encoding='utf-8')
     # scripts/setup.sh installs Open MPI, so mpirun is expected: its absence fails here.
     assert shutil.which('mpirun'), 'mpirun not found: run scripts/setup.sh (it installs openmpi-bin)'
     command = ['mpirun', '--oversubscribe', '-np', '2', sys.executable, str(script)]
     import os
     if os.geteuid() == 0:
         command.insert(1, '--allow-run-as-root')
-    result = subprocess.run(command, capture_output=True, text=True, timeout=300)
+    result = subprocess.run(command, capture_output=True, encoding='utf-8', timeout=300)
     assert result.returncode == 0, result.stderr
     line = [l for l in result.stdout.splitlines() if l.startswith('seeds')]
     assert len(line) == 1 and 'seeds [10, 11, 12, 13]' in line[0]

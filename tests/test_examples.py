@@ -17,7 +17,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 def test_bent_trimers_example(platform):
     result = subprocess.run([sys.executable, str(ROOT/'examples'/'bent_trimers.py'), '--bodies', '60', '--steps', '8000', '--report', '20',
-                             '--platform', platform.name], capture_output=True, text=True, timeout=300)
+                             '--platform', platform.name], capture_output=True, encoding='utf-8', timeout=300)
     assert result.returncode == 0, result.stderr
     def numbers(line):
         try:
@@ -38,11 +38,11 @@ def test_bent_trimers_example(platform):
 def test_flagship_study_short_form(tmp_path):
     # A few picoseconds of every run: the table, the heating curve (CSV and PNG) and timings appear.
     result = subprocess.run([sys.executable, str(ROOT/'examples'/'flagship_water.py'), '--control-ps', '1', '--heating-ps', '0.4',
-                             '--equilibration-ps', '0.2', '--out', str(tmp_path)], capture_output=True, text=True, timeout=600)
+                             '--equilibration-ps', '0.2', '--out', str(tmp_path)], capture_output=True, encoding='utf-8', timeout=600)
     assert result.returncode == 0, result.stderr
-    table = (tmp_path/'temperature_control.md').read_text().splitlines()
+    table = (tmp_path/'temperature_control.md').read_text(encoding='utf-8').splitlines()
     assert len(table) == 5 and '300.47' in table[2] and '303.04' in table[4]
-    rows = list(csv.DictReader(open(tmp_path/'temperature_control.csv')))
+    rows = list(csv.DictReader(open(tmp_path/'temperature_control.csv', encoding='utf-8')))
     assert len(rows) == 3
     for row in rows:
         mean, error = float(row['<T> (K)']), float(row['standard error (K)'])
@@ -51,11 +51,11 @@ def test_flagship_study_short_form(tmp_path):
         # that long to relax, longer than the short form's run.
         if float(row['viscosity (P)']) >= 0.1:
             assert abs(mean-300) < agreement_threshold(19)*error, f"{row['viscosity (P)']} P: {mean:.2f} +- {error:.2f} K"
-    heating = list(csv.reader(open(tmp_path/'heating_curve.csv')))
+    heating = list(csv.reader(open(tmp_path/'heating_curve.csv', encoding='utf-8')))
     assert heating[0][1:] == ['RigidLangevin 0.1 P T (K)', 'NVE (zero viscosity) T (K)', 'Nose-Hoover 5 ps T (K)']
     assert len(heating) == 10  # header, t = 0, then every 0.05 ps
     assert (tmp_path/'heating_curve.png').stat().st_size > 10000
-    timings = list(csv.reader(open(tmp_path/'timings.csv')))
+    timings = list(csv.reader(open(tmp_path/'timings.csv', encoding='utf-8')))
     assert len(timings) == 7 and all(float(t[1]) > 0 for t in timings[1:])
 
 
@@ -64,17 +64,17 @@ def test_ssd_scene_quick(tmp_path):
     # curves are written; at each viscosity the mean temperature is the bath's within the statistics
     # of the run, and the heating runs start cold and the thermostatted ones approach 300 K.
     result = subprocess.run([sys.executable, str(ROOT/'examples'/'ssd_scene.py'), '--quick', '--out', str(tmp_path)],
-                            capture_output=True, text=True, timeout=900)
+                            capture_output=True, encoding='utf-8', timeout=900)
     assert result.returncode == 0, result.stderr
-    with open(tmp_path/'temperatures.csv') as f:
+    with open(tmp_path/'temperatures.csv', encoding='utf-8') as f:
         rows = list(csv.DictReader(f))
     assert [float(r['viscosity_poise']) for r in rows] == [1.0, 0.1, 0.01]
     for r in rows:
         assert abs(float(r['mean_T'])-300) < WINDOW*float(r['mean_T_error']), r
-    assert '| 0.1 |' in (tmp_path/'table.md').read_text()
+    assert '| 0.1 |' in (tmp_path/'table.md').read_text(encoding='utf-8')
     # The table is printed as it is written, and the heating curves are summarised on screen.
-    assert (tmp_path/'table.md').read_text().strip() in result.stdout and '| Nose-Hoover 5 ps |' in result.stdout
-    with open(tmp_path/'heating.csv') as f:
+    assert (tmp_path/'table.md').read_text(encoding='utf-8').strip() in result.stdout and '| Nose-Hoover 5 ps |' in result.stdout
+    with open(tmp_path/'heating.csv', encoding='utf-8') as f:
         heating = list(csv.DictReader(f))
     # The heating runs start cold: their first samples (after 20 fs, in which the quick form's briefly
     # cooled configuration already releases some potential energy) lie more than 5 rms fluctuations
@@ -94,14 +94,14 @@ def test_banana_scene_short_form_and_appending(tmp_path):
     scene = [sys.executable, str(ROOT/'examples'/'banana_scene.py'), '--quick', '--ps-scale', '0.1', '--threads', '1']
 
     def run(*extra):
-        return subprocess.run(scene+list(extra), capture_output=True, text=True, timeout=900)
+        return subprocess.run(scene+list(extra), capture_output=True, encoding='utf-8', timeout=900)
     whole, parts = tmp_path/'whole', tmp_path/'parts'
     result = run('--out', str(whole))
     assert result.returncode == 0, result.stderr
     for name in ('tensor.md', 'pentane.md', 'density_trace.png', 'diffusion.md', 'diffusion.csv', 'correlations.csv', 'correlations.png'):
         assert (whole/name).stat().st_size > 0, name
-    assert '58.64' in (whole/'tensor.md').read_text()
-    rows = {row['run']: row for row in csv.DictReader(open(whole/'diffusion.csv'))}
+    assert '58.64' in (whole/'tensor.md').read_text(encoding='utf-8')
+    rows = {row['run']: row for row in csv.DictReader(open(whole/'diffusion.csv', encoding='utf-8'))}
     corrected = ['explicit, finite-size corrected (eta linear in k^2)', 'explicit, finite-size corrected (1/eta linear in k^2)']
     assert set(rows) == {'explicit', *corrected, 'ExactFlow', 'BAOAB', 'LangevinMiddle'}
     # The Yeh-Hummer correction only adds to the periodic box's D_t, with the solvent's viscosity by
@@ -114,15 +114,15 @@ def test_banana_scene_short_form_and_appending(tmp_path):
 
     result = run('--out', str(parts), '--replicas', '1')
     assert result.returncode == 0, result.stderr
-    assert {row['replicas'] for row in csv.DictReader(open(parts/'diffusion.csv'))} == {'1'}
+    assert {row['replicas'] for row in csv.DictReader(open(parts/'diffusion.csv', encoding='utf-8'))} == {'1'}
     result = run('--out', str(parts), '--replicas', '1', '--stages', 'explicit,implicit', '--add', '1')
     assert result.returncode == 0, result.stderr
 
     def without_speed(folder):
-        return [{k: v for k, v in row.items() if k != 'ns/day'} for row in csv.DictReader(open(folder/'diffusion.csv'))]
+        return [{k: v for k, v in row.items() if k != 'ns/day'} for row in csv.DictReader(open(folder/'diffusion.csv', encoding='utf-8'))]
     assert without_speed(parts) == without_speed(whole)
     for name in ('pentane.md', 'correlations.csv'):
-        assert (parts/name).read_text() == (whole/name).read_text(), name
+        assert (parts/name).read_text(encoding='utf-8') == (whole/name).read_text(encoding='utf-8'), name
 
     # The explicit and implicit stages run by two processes started apart (--part, as on a machine
     # without MPI), on a folder holding only the earlier stages' runs: the same tables again, each
@@ -131,7 +131,7 @@ def test_banana_scene_short_form_and_appending(tmp_path):
     for name in ('density', 'scene_box') + tuple(p.name for p in (whole/'runs').glob('viscosity_*')):
         shutil.copytree(whole/'runs'/name, split/'runs'/name)
     both = [subprocess.Popen(scene+['--out', str(split), '--stages', 'explicit,implicit', '--part', f'{i}/2', '--no-report'],
-                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) for i in range(2)]
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, encoding='utf-8') for i in range(2)]
     for process in both:
         _, error = process.communicate(timeout=900)
         assert process.returncode == 0, error
@@ -139,7 +139,7 @@ def test_banana_scene_short_form_and_appending(tmp_path):
     result = run('--out', str(split), '--report-only')
     assert result.returncode == 0, result.stderr
     assert without_speed(split) == without_speed(whole)
-    assert (split/'correlations.csv').read_text() == (whole/'correlations.csv').read_text()
+    assert (split/'correlations.csv').read_text(encoding='utf-8') == (whole/'correlations.csv').read_text(encoding='utf-8')
 
     result = run('--out', str(parts), '--ps-scale', '0.2')
     assert result.returncode != 0
@@ -150,7 +150,7 @@ def test_protein_diffusion_example():
     """villin HP35 as rigid copies: all five force-field forces removed, and the measured diffusion
     within the t window of its 8 groups' standard error of the tensor's prediction. (The quick run's
     standard errors are about 12%; tests/test_banana.py checks the same prediction to 1%.)"""
-    result = subprocess.run([sys.executable, str(ROOT/'examples'/'protein_diffusion.py'), '--quick'], capture_output=True, text=True, timeout=600)
+    result = subprocess.run([sys.executable, str(ROOT/'examples'/'protein_diffusion.py'), '--quick'], capture_output=True, encoding='utf-8', timeout=600)
     assert result.returncode == 0, result.stderr
     line = next(l for l in result.stdout.splitlines() if l.startswith('test.pdb'))
     values = line.replace('+-', ' ').split()
@@ -166,15 +166,15 @@ def test_ssd_properties_quick(tmp_path):
     # The published-property comparison in its quick form: the table carries the published numbers
     # beside ours, and the NVE runs are at the mean NPT density (the box is scaled to exactly it).
     result = subprocess.run([sys.executable, str(ROOT/'examples'/'ssd_properties.py'), '--quick', '--models', 'SSD/RF', '--out', str(tmp_path)],
-                            capture_output=True, text=True, timeout=600)
+                            capture_output=True, encoding='utf-8', timeout=600)
     assert result.returncode == 0, result.stderr
-    with open(tmp_path/'properties.csv') as f:
+    with open(tmp_path/'properties.csv', encoding='utf-8') as f:
         rows = list(csv.DictReader(f))
     assert [float(r['switching distance (A)']) for r in rows] == [8.55, 7.7]  # SSD/RF with both switches
     mass = 256*18.0153/6.02214076e23  # g
     for row in rows:
         assert abs(mass/(float(row['box edge at the mean density (nm)'])*1e-7)**3/float(row['density (g/cm^3)'])-1) < 1e-9
-    table = (tmp_path/'table.md').read_text()
+    table = (tmp_path/'table.md').read_text(encoding='utf-8')
     assert '| SSD/RF | 8.55 |' in table and '| 0.997 ± 0.001 |' in table
 
 
@@ -213,10 +213,10 @@ def test_sedimenting_cloud_example(tmp_path, platform):
     # 1.5%), and the interactions make it fall several times faster: what turning them on changes
     # for a user.
     result = subprocess.run([sys.executable, str(ROOT/'examples'/'sedimenting_cloud.py'), '--quick', '--platform', platform.name, '--out', str(tmp_path)],
-                            capture_output=True, text=True, timeout=300)
+                            capture_output=True, encoding='utf-8', timeout=300)
     assert result.returncode == 0, result.stderr
     rows = {}
-    for line in (tmp_path/'table.md').read_text().splitlines():
+    for line in (tmp_path/'table.md').read_text(encoding='utf-8').splitlines():
         cells = [c.strip() for c in line.strip('|').split('|')]
         if cells[0] in ('off', 'on'):
             measured, error = (float(v) for v in cells[1].split('±'))

@@ -47,7 +47,7 @@ target_link_libraries(hydrodynamics RigidLangevin::Hydrodynamics)
 
 
 def run(command, **kwargs):
-    result = subprocess.run([str(c) for c in command], capture_output=True, text=True, **kwargs)
+    result = subprocess.run([str(c) for c in command], capture_output=True, encoding='utf-8', **kwargs)
     assert result.returncode == 0, f'{command} failed:\n{result.stdout[-3000:]}\n{result.stderr[-3000:]}'
     return result.stdout
 
@@ -94,7 +94,7 @@ def test_pip_install_into_a_fresh_environment(tmp_path):
     assert 'matches Stokes-Einstein' in run([hydrodynamics], cwd=elsewhere)
     project = tmp_path/'cmake_project'
     project.mkdir()
-    (project/'CMakeLists.txt').write_text(CMAKE_PROJECT.format(examples=ROOT/'examples'/'cpp'))
+    (project/'CMakeLists.txt').write_text(CMAKE_PROJECT.format(examples=ROOT/'examples'/'cpp'), encoding='utf-8')
     run(['cmake', '-S', project, '-B', project/'build', f'-DCMAKE_PREFIX_PATH={openmm_dir}'], cwd=elsewhere)
     run(['cmake', '--build', project/'build'], cwd=elsewhere)
     assert 'temperature' in run([project/'build'/'quickstart'], cwd=elsewhere)

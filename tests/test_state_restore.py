@@ -69,7 +69,7 @@ RESTORE = textwrap.dedent('''
     import openmm as mm
     import rigidlangevin as rl
     folder, start = sys.argv[1], sys.argv[2]
-    read = lambda name: open(f"{folder}/{name}").read()
+    read = lambda name: open(f"{folder}/{name}", encoding='utf-8').read()
     system = mm.XmlSerializer.deserialize(read("system.xml"))
     integrator = rl.RigidLangevinIntegrator.cast(mm.XmlSerializer.deserialize(read("integrator.xml")))
     state = mm.XmlSerializer.deserialize(read("state.xml"))
@@ -95,9 +95,9 @@ def test_state_restored_in_another_process_continues_the_trajectory(kind, tmp_pa
     integrator.step(100)
     state = context.getState(getPositions=True, getVelocities=True, getIntegratorParameters=True)
     saved = state.getPositions(asNumpy=True)._value
-    (tmp_path/'system.xml').write_text(mm.XmlSerializer.serialize(system))
-    (tmp_path/'integrator.xml').write_text(mm.XmlSerializer.serialize(integrator))
-    (tmp_path/'state.xml').write_text(mm.XmlSerializer.serialize(state))
+    (tmp_path/'system.xml').write_text(mm.XmlSerializer.serialize(system), encoding='utf-8')
+    (tmp_path/'integrator.xml').write_text(mm.XmlSerializer.serialize(integrator), encoding='utf-8')
+    (tmp_path/'state.xml').write_text(mm.XmlSerializer.serialize(state), encoding='utf-8')
     integrator.step(200)
     uninterrupted = context.getState(getPositions=True).getPositions(asNumpy=True)._value
     rotation = np.linalg.qr(np.random.default_rng(3).normal(size=(3, 3)))[0]

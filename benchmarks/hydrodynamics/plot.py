@@ -27,7 +27,7 @@ def column(rows, name):
 def main():
     if len(sys.argv) != 3:
         sys.exit("usage: plot.py results.csv results.png")
-    with open(sys.argv[1], newline="") as f:
+    with open(sys.argv[1], newline="", encoding='utf-8') as f:
         rows = list(csv.DictReader(f))
     if not rows:
         sys.exit(f"{sys.argv[1]} holds no measurements")
@@ -66,4 +66,5 @@ def main():
 
 
 if __name__ == "__main__":
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()

@@ -29,6 +29,7 @@ GRPY's structures/ folder) the same input files as HYDROPRO's published runs are
 
 Writes results/<name>.csv, .md and .png, with the seconds each tensor took.
 """
+import sys
 import argparse
 import csv
 import gzip
@@ -172,7 +173,7 @@ def hydropro_beads(folder, pdb):
     path = os.path.join(folder, pdb, pdb+'-pri.bea')
     if not os.path.exists(path):
         return None
-    with open(path) as f:
+    with open(path, encoding='utf-8') as f:
         return sum(1 for line in f if line.startswith('ATOM'))
 
 
@@ -240,13 +241,13 @@ def main():
                'measured_D_t_sources', 'measured_tau_h_sources']
     columns = [c for c in columns if any(c in row for row in rows)]
     os.makedirs(RESULTS, exist_ok=True)
-    with open(os.path.join(RESULTS, name+'.csv'), 'w', newline='') as f:
+    with open(os.path.join(RESULTS, name+'.csv'), 'w', newline='', encoding='utf-8') as f:
         writer = csv.DictWriter(f, fieldnames=columns)
         writer.writeheader()
         for row in rows:
             writer.writerow({c: row.get(c, '') for c in columns})
     shown = columns[:-2]
-    with open(os.path.join(RESULTS, name+'.md'), 'w') as f:
+    with open(os.path.join(RESULTS, name+'.md'), 'w', encoding='utf-8') as f:
         f.write(f'# Proteins: hydrodynamics.protein() against HYDROPRO and experiment, 20 C, 1 cP\n\n'
                 f'D_t in 1e-7 cm^2/s, D_r in 1e7/s, tau_h = 1/(6 D_r) in ns, s in Svedberg (from D_t, M and vbar as HYDROPRO\'s runs used them), '
                 f'seconds: time to build the tensor on this machine. HYDROPRO: {HYDROPRO}; its printed harmonic-mean time '
@@ -256,7 +257,7 @@ def main():
         f.write('| ' + ' | '.join(shown) + ' |\n|' + '---|'*len(shown) + '\n')
         for row in rows:
             f.write('| ' + ' | '.join(str(row.get(c, '')) for c in shown) + ' |\n')
-    print(open(os.path.join(RESULTS, name+'.md')).read())
+    print(open(os.path.join(RESULTS, name+'.md'), encoding='utf-8').read())
 
     import matplotlib
     matplotlib.use('Agg')
@@ -284,4 +285,5 @@ def main():
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()

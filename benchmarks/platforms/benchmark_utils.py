@@ -145,7 +145,7 @@ def write_table(name, columns, rows):
     """Write rows (dicts) as results/<name>.csv and print them as an aligned table."""
     os.makedirs(RESULTS, exist_ok=True)
     path = os.path.join(RESULTS, name+'.csv')
-    with open(path, 'w', newline='') as f:
+    with open(path, 'w', newline='', encoding='utf-8') as f:
         writer = csv.DictWriter(f, fieldnames=columns)
         writer.writeheader()
         for row in rows:

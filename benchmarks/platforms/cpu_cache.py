@@ -17,6 +17,7 @@ streaming costs or saves in time (it saves 144 of 668 bytes per body-step by the
 Writes results/cpu_cache.csv (one row per pair) and results/cpu_cache.png, and prints the mean
 ratios (large/small, streaming/ordinary stores) with their standard errors over the pairs.
 """
+import sys
 import argparse
 import os
 import time
@@ -33,7 +34,7 @@ def last_level_cache_mib():
     import glob
     sizes = []
     for path in glob.glob('/sys/devices/system/cpu/cpu0/cache/index*/size'):
-        text = open(path).read().strip()
+        text = open(path, encoding='utf-8').read().strip()
         sizes.append(int(text[:-1])/(1024 if text.endswith('K') else 1) if text[-1] in 'KM' else int(text)/2**20)
     return max(sizes) if sizes else None
 
@@ -117,4 +118,5 @@ def main():
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()

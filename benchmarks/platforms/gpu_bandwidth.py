@@ -74,7 +74,7 @@ def main():
     # the last MEASURED_STEPS full steps: each step launches the body-step kernel exactly once.
     profile = subprocess.run(['ncu', '--target-processes', 'all', '--csv', '--metrics', ','.join(METRICS),
                               sys.executable, os.path.abspath(__file__), '--workload', '--bodies', str(args.bodies),
-                              '--precision', args.precision], capture_output=True, text=True)
+                              '--precision', args.precision], capture_output=True, encoding='utf-8')
     launches = {}
     for row in csv.DictReader(io.StringIO(csv_part(profile.stdout))):
         value = float(row['Metric Value'].replace(',', ''))
@@ -124,4 +124,5 @@ def csv_part(text):
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()

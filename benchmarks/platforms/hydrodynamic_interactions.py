@@ -27,6 +27,7 @@ iterations of its three solves (RigidLangevinIntegrator.getKrylovIterations(): t
 the noise's and the friction's conjugate gradients), mean and range over ITERATION_STEPS steps
 after the timing.
 """
+import sys
 import argparse
 import csv
 import os
@@ -174,7 +175,7 @@ def main():
     args = parser.parse_args()
     args.name = args.name or ('hydrodynamic_interactions_large' if args.large else 'hydrodynamic_interactions')
     if args.replot:
-        with open(os.path.join(benchmark_utils.RESULTS, args.name+'.csv')) as f:
+        with open(os.path.join(benchmark_utils.RESULTS, args.name+'.csv'), encoding='utf-8') as f:
             plot(list(csv.DictReader(f)), args.name)
         return
     status = platform_status(args.platform)
@@ -199,4 +200,5 @@ def main():
     plot(rows, args.name)
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()

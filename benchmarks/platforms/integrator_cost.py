@@ -8,6 +8,7 @@ the ratio to LangevinMiddle pair by pair, each with its standard error.
 
     python benchmarks/platforms/integrator_cost.py [--sizes 1000 10000 100000 1000000] [--pairs 5]
 """
+import sys
 import argparse
 import math
 
@@ -145,4 +146,5 @@ def plot(rows, name, title='RigidLangevinIntegrator, no forces'):
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()

@@ -12,6 +12,7 @@ blocks in one run (the speed-up taken pair by pair, with its standard error):
 
 Writes results/<name>.csv and .png: mean ms per step with and without, and their ratio +- its standard error.
 """
+import sys
 import argparse
 import os
 
@@ -138,4 +139,5 @@ def main():
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()

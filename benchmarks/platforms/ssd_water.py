@@ -9,6 +9,7 @@ of each (from the mean time per step) and their ratio pair by pair with its stan
 The default boxes are the source's scene (19.7166 A, 256 SSD waters, 9 A cutoff) and a 4 nm box
 (about 2100 waters); cutoffs are 0.9 nm for both models.
 """
+import sys
 import argparse
 
 import numpy as np
@@ -115,4 +116,5 @@ def plot(rows, name):
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()

@@ -29,6 +29,7 @@ the modelled bytes: the bandwidth a kernel achieves.
 It also measures this machine's memory bandwidth (a numpy copy of 400 MB, one thread, bytes read and
 written), as the CPU kernels' peak; run it on a quiet machine, or pass --host-bandwidth GB/s.
 """
+import sys
 import argparse
 import csv
 import math
@@ -180,7 +181,7 @@ def read_csv(name):
     path = os.path.join(RESULTS, name)
     if not os.path.exists(path):
         return []
-    with open(path) as f:
+    with open(path, encoding='utf-8') as f:
         return list(csv.DictReader(f))
 
 
@@ -269,7 +270,7 @@ def main(argv=None):
     fields = ['platform', 'precision', 'particles', 'minimum', 'particle velocities', 'layout minimum', 'before', 'current',
               'current/minimum', 'current/layout minimum', 'current, periodic', 'layout minimum, periodic', 'current, periodic/minimum',
               'current, periodic/layout minimum']
-    with open(os.path.join(RESULTS, 'traffic.csv'), 'w', newline='') as f:
+    with open(os.path.join(RESULTS, 'traffic.csv'), 'w', newline='', encoding='utf-8') as f:
         writer = csv.DictWriter(f, fieldnames=fields)
         writer.writeheader()
         writer.writerows(rows)
@@ -342,10 +343,11 @@ def main(argv=None):
                     bandwidth_text += f' +- {model/t*1e-3*error/t:.2g}'
                 lines.append(f'| {machine} | {platform} | {precision} | {time_text} | {model} | {bandwidth_text} |')
     text = '\n'.join(lines)+'\n'
-    with open(os.path.join(RESULTS, 'traffic.md'), 'w') as f:
+    with open(os.path.join(RESULTS, 'traffic.md'), 'w', encoding='utf-8') as f:
         f.write(text)
     print(text)
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()

@@ -6,6 +6,7 @@ with its standard error.
 
     python benchmarks/platforms/water_box.py [--box 5.0] [--platforms CPU OpenCL CUDA] [--pairs 6]
 """
+import sys
 import argparse
 
 import numpy as np
@@ -118,4 +119,5 @@ def plot(rows, name):
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()

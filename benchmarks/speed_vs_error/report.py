@@ -27,7 +27,7 @@ def write_csv(path, rows):
     fields = []
     for r in rows:
         fields += [k for k in r if k not in fields]
-    with open(path, 'w', newline='') as f:
+    with open(path, 'w', newline='', encoding='utf-8') as f:
         writer = csv.DictWriter(f, fieldnames=fields)
         writer.writeheader()
         writer.writerows(rows)
@@ -35,7 +35,7 @@ def write_csv(path, rows):
 
 def read_csv(path):
     """Rows written by write_csv, numbers as numbers and empty cells left out."""
-    with open(path) as f:
+    with open(path, encoding='utf-8') as f:
         return [{k: number(v) for k, v in r.items() if v != ''} for r in csv.DictReader(f)]
 
 
@@ -53,7 +53,7 @@ def write(out, rows, stability):
     if stability:
         write_csv(out/'stability.csv', stability)
     table = markdown(rows, stability)+'\n'+targets(rows, stability)
-    (out/'table.md').write_text(table)
+    (out/'table.md').write_text(table, encoding='utf-8')
     print(table)
     plot(out, rows)
 
@@ -248,5 +248,5 @@ def write_configurational(out, records, exact, peer):
     if failed:
         lines.append(f'- {len(failed)} runs failed: '+', '.join(f"{r['integrator']} {r['step (fs)']} fs replica {r['replica']}: {r['status']}" for r in failed))
     text = '\n'.join(lines)+'\n'
-    (out/'configurational.md').write_text(text)
+    (out/'configurational.md').write_text(text, encoding='utf-8')
     print(text)

@@ -614,7 +614,7 @@ def main(argv=None):
         rows = sorted(rows+kept, key=lambda r: r['scene'][:2])
     if rows and not stability and (out/'stability.csv').exists():
         # A run of some parts keeps the stability table of an earlier full run.
-        with open(out/'stability.csv') as f:
+        with open(out/'stability.csv', encoding='utf-8') as f:
             stability = list(csv.DictReader(f))
     if rows or stability:
         report.write(out, rows, stability)
@@ -698,14 +698,14 @@ def write_replicas(path, records):
             return float(f'{float(value):.10g}')
         return value.item() if isinstance(value, np.generic) else value
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps([plain(r) for r in records], separators=(',', ':')))
+    path.write_text(json.dumps([plain(r) for r in records], separators=(',', ':')), encoding='utf-8')
 
 
 def read_replicas(path):
     """Records written by write_replicas, checked: an append must not silently start over."""
     if not path.exists():
         raise SystemExit(f'--s2-append: {path} does not exist; run --parts s2 without --s2-append first')
-    records = json.loads(path.read_text())
+    records = json.loads(path.read_text(encoding='utf-8'))
     needed = {'reference', 'viscosity', 'integrator', 'step (fs)', 'replica', 'result'}
     for i, r in enumerate(records):
         if not isinstance(r, dict) or not needed <= set(r) or not isinstance(r['result'], dict):
@@ -726,4 +726,5 @@ def row(scene, viscosity, task, result, error):
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     sys.exit(main())

@@ -39,7 +39,7 @@ def make(waters, BOX, cutoff):
     simulation.step(25000)
     positions = simulation.context.getState(getPositions=True, enforcePeriodicBox=True).getPositions()
     path = pathlib.Path(__file__).with_name(f'water{waters}.pdb')
-    with open(path, 'w') as f:
+    with open(path, 'w', encoding='utf-8') as f:
         app.PDBFile.writeFile(modeller.topology, positions, f)
     print(f'wrote {path}: {modeller.topology.getNumResidues()} waters, box {BOX} nm')
 

@@ -60,12 +60,35 @@ public:
      * Put the bodies in a periodic box (three vectors in nm, OpenMM's reduced triclinic form or
      * any right-handed box): the blobs' mobility M is then the Ewald sum over all their images
      * (Hasimoto's split, both parts positive definite; a lone blob in a cube of side L has the
-     * mobility (1 - 2.837297 a/L + 4 pi/3 (a/L)^3)/(6 pi viscosity a) exactly). A body's blobs are
-     * taken where they are given, relative to its reference point, so give each body whole. A
-     * calibrated body (setBodyResistance()) is calibrated alone in an unbounded solvent, where
-     * its own tensor belongs; in the box it then also feels its images.
+     * mobility (1 - 2.837297 a/L + 4 pi/3 (a/L)^3)/(6 pi viscosity a) exactly while 2a < L). A
+     * body's blobs are taken where they are given, relative to its reference point, so give each
+     * body whole. A calibrated body (setBodyResistance()) is calibrated alone in an unbounded
+     * solvent, where its own tensor belongs; in the box it then also feels its images.
+     *
+     * Every blob's diameter must be under half the box's smallest width (the least distance
+     * between two opposite faces), as the integrator asks of a body: then two blobs overlap at most
+     * the nearest image of each other, and a blob none of its own. Larger blobs overlap several
+     * images at once, where the overlap-regularised kernel no longer describes spheres in a box
+     * (and Hasimoto's expansion no longer holds); getResistance() refuses them, naming the blob.
      */
     void setPeriodicBox(const OpenMM::Vec3& a, const OpenMM::Vec3& b, const OpenMM::Vec3& c);
+    /**
+     * Bound the fluid below by a no-slip wall, the plane z = z0 (nm), the bodies above it: the
+     * blobs' mobility M is then Rotne-Prager-Blake's (the Rotne-Prager-Yamakawa tensor plus the
+     * wall's image system; Swan & Brady, Phys. Fluids 19, 113306 (2007), any radii), with blobs
+     * closer to the wall than their radius regularised as Balboa Usabiaga, Delmotte & Donev do (J.
+     * Chem. Phys. 146, 134104 (2017): evaluated at a radius above it, damped by their height over
+     * their radius), so that R stays symmetric positive definite. A lone blob of radius a at
+     * height h then has the mobility (1 - 9x/16 + x^3/8 - x^5/16)/(6 pi a) along the wall and
+     * (1 - 9x/8 + x^3/2 - x^5/8)/(6 pi a) across it, x = a/h. R now depends on where the bodies
+     * are, not only on where they are relative to each other: with one body added it is that
+     * body's resistance at its height and orientation. getResistance() refuses a blob whose centre
+     * is at or below the wall, naming its body. A calibrated body (setBodyResistance()) is
+     * calibrated alone in an unbounded solvent, where its own tensor belongs; above the wall it
+     * then also feels the wall. A wall and a periodic box together are not supported: the second
+     * of setWall() and setPeriodicBox() throws.
+     */
+    void setWall(double z0);
     /**
      * Add a body.
      *
@@ -90,8 +113,10 @@ public:
     }
     /**
      * The 36 N^2 values, row-major, of the bodies' resistance R per unit viscosity (see the class
-     * description). Throws an OpenMMException naming the blobs if two of them are the same sphere (then
-     * M is singular), or if a blob's position or radius is not finite and positive.
+     * description). Throws an OpenMMException naming the blobs (blob k of body b) if two of them are
+     * the same sphere, on one body or two, or in a periodic box through it (then M is singular), if
+     * a blob's position or radius is not finite and positive, or if in a periodic box a blob is too
+     * large for it (see setPeriodicBox()).
      */
     std::vector<double> getResistance() const;
     /**
@@ -106,8 +131,9 @@ private:
     std::vector<std::vector<double> > radii;
     std::vector<OpenMM::Vec3> origins;
     std::vector<std::vector<double> > ownResistance;  // about the body's origin; empty if not calibrated
-    bool periodic;
+    bool periodic, wall;
     OpenMM::Vec3 box[3];
+    double wallZ;
 };
 
 } // namespace RigidLangevinPlugin

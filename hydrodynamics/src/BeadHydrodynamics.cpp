@@ -1,12 +1,12 @@
 #include "internal/BeadHydrodynamics.h"
 #include "beadkernel/BeadResistanceKernel.h"
+#include "internal/MessageFormat.h"
 #include "openmm/OpenMMException.h"
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
 #include <numeric>
-#include <sstream>
 #include <thread>
 #if defined(__unix__) || defined(__APPLE__)
 #include <unistd.h>
@@ -14,6 +14,7 @@
 
 using namespace RigidLangevinPlugin;
 using namespace RigidLangevinPlugin::ResistanceMath;
+using namespace RigidLangevinPlugin::MessageFormat;
 using OpenMM::OpenMMException;
 using OpenMM::Vec3;
 using std::string;
@@ -23,12 +24,6 @@ namespace {
 
 /** Relative distance (and radius difference) below which two beads count as the same sphere. */
 const double COINCIDENCE_TOLERANCE = 1e-10;
-
-string describe(const Vec3& v) {
-    std::ostringstream s;
-    s << "(" << v[0] << ", " << v[1] << ", " << v[2] << ")";
-    return s.str();
-}
 
 /** Physical memory in bytes, or 0 where the system does not say. */
 double physicalMemory() {
@@ -75,34 +70,52 @@ bool BeadHydrodynamics::isAVX2KernelAvailable() {
 #endif
 }
 
-void BeadHydrodynamics::validate(const string& caller, const vector<Vec3>& positions, const vector<double>& radii) {
+void BeadHydrodynamics::validate(const string& caller, const vector<Vec3>& positions, const vector<double>& radii, const BeadNames& names) {
+    auto name = [&](int i) { return (names ? names(i) : "bead "+std::to_string(i)); };
     if (positions.empty())
         throw OpenMMException(caller+": the bead model is empty; give at least one bead (a position and a radius)");
     if (positions.size() != radii.size())
         throw OpenMMException(caller+": got "+std::to_string(positions.size())+" bead positions but "+std::to_string(radii.size())+" radii; give one radius per bead");
     const int numBeads = positions.size();
-    double maxRadius = 0;
+    vector<double> keys(numBeads);
     for (int i = 0; i < numBeads; i++) {
         if (!std::isfinite(positions[i][0]) || !std::isfinite(positions[i][1]) || !std::isfinite(positions[i][2]))
-            throw OpenMMException(caller+": bead "+std::to_string(i)+" has position "+describe(positions[i])+"; every coordinate must be a finite number (nm)");
+            throw OpenMMException(caller+": "+name(i)+" has position "+describe(positions[i])+"; every coordinate must be a finite number (nm)");
         if (!(radii[i] > 0) || !std::isfinite(radii[i]))
-            throw OpenMMException(caller+": bead "+std::to_string(i)+" has radius "+std::to_string(radii[i])+"; every radius must be positive and finite (nm)");
-        maxRadius = std::max(maxRadius, radii[i]);
+            throw OpenMMException(caller+": "+name(i)+" has radius "+str(radii[i])+"; every radius must be positive and finite (nm)");
+        keys[i] = positions[i][0];
     }
-    // Coincident beads: sort by x and compare each bead with those within the tolerance in x.
-    vector<int> order(numBeads);
+    std::pair<int, int> same = findCoincident(keys, 0, [&](int i, int j) { return positions[i]-positions[j]; }, radii);
+    if (same.first >= 0) {
+        int i = same.first, j = same.second;
+        throw OpenMMException(caller+": "+(names ? names(i)+" and "+names(j) : "beads "+std::to_string(i)+" and "+std::to_string(j))+" are coincident (both at "+
+                describe(positions[i])+" with radius "+str(radii[i])+"); the same sphere cannot be there twice (its mobility would be "
+                "singular), so remove one of them");
+    }
+}
+
+std::pair<int, int> BeadHydrodynamics::findCoincident(const vector<double>& keys, double period, const std::function<Vec3 (int, int)>& difference,
+                                                      const vector<double>& radii) {
+    const int n = keys.size();
+    const double maxRadius = *std::max_element(radii.begin(), radii.end());
+    vector<int> order(n);
     std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return positions[a][0] < positions[b][0]; });
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return keys[a] < keys[b]; });
+    // Each bead against those after it in key order within the tolerance; with a period the scan
+    // runs on past the last key to the first ones again, a period further on.
     const double window = COINCIDENCE_TOLERANCE*maxRadius;
-    for (int m = 0; m < numBeads; m++)
-        for (int l = m+1; l < numBeads && positions[order[l]][0]-positions[order[m]][0] <= window; l++) {
-            int i = std::min(order[m], order[l]), j = std::max(order[m], order[l]);
+    for (int m = 0; m < n; m++)
+        for (int l = m+1; l < (period > 0 ? m+n : n); l++) {
+            int other = order[l%n];
+            if (keys[other]+(l >= n ? period : 0.0)-keys[order[m]] > window)
+                break;
+            int i = std::min(order[m], other), j = std::max(order[m], other);
             double tolerance = COINCIDENCE_TOLERANCE*std::max(radii[i], radii[j]);
-            Vec3 d = positions[i]-positions[j];
+            Vec3 d = difference(i, j);
             if (std::sqrt(d.dot(d)) <= tolerance && std::abs(radii[i]-radii[j]) <= tolerance)
-                throw OpenMMException(caller+": beads "+std::to_string(i)+" and "+std::to_string(j)+" are coincident (both at "+describe(positions[i])+
-                        " with radius "+std::to_string(radii[i])+"); a bead model cannot hold the same sphere twice, so remove one of them");
+                return std::make_pair(i, j);
         }
+    return std::make_pair(-1, -1);
 }
 
 Matrix6 BeadHydrodynamics::resistance(const string& caller, const vector<Vec3>& positions, const vector<double>& radii,

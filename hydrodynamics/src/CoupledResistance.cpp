@@ -3,6 +3,7 @@
 #include "internal/CoupledResistanceMath.h"
 #include "internal/PeriodicRotnePragerYamakawa.h"
 #include "internal/ResistanceMath.h"
+#include "internal/RotnePragerBlake.h"
 #include "internal/RotnePragerYamakawa.h"
 #include "openmm/OpenMMException.h"
 #include <Eigen/Cholesky>
@@ -38,15 +39,26 @@ int CoupledResistance::addBody(const vector<Vec3>& blobPositions, const vector<d
     return origins.size()-1;
 }
 
-CoupledResistance::CoupledResistance() : periodic(false) {
+CoupledResistance::CoupledResistance() : periodic(false), wall(false), wallZ(0) {
 }
 
 void CoupledResistance::setPeriodicBox(const Vec3& a, const Vec3& b, const Vec3& c) {
+    if (wall)
+        throw OpenMMException("CoupledResistance::setPeriodicBox: the bodies are above a no-slip wall (setWall()); a wall and a periodic box together are not supported");
     Vec3 vectors[3] = {a, b, c};
     PeriodicRotnePragerYamakawa check(vectors);  // refuses a box that is not one
     for (int i = 0; i < 3; i++)
         box[i] = vectors[i];
     periodic = true;
+}
+
+void CoupledResistance::setWall(double z0) {
+    if (periodic)
+        throw OpenMMException("CoupledResistance::setWall: the bodies are in a periodic box (setPeriodicBox()); a wall and a periodic box together are not supported");
+    if (!std::isfinite(z0))
+        throw OpenMMException("CoupledResistance::setWall: the wall's height is not finite; give z0 in nm");
+    wall = true;
+    wallZ = z0;
 }
 
 void CoupledResistance::setBodyResistance(int body, const ResistanceTensor& own) {
@@ -68,14 +80,15 @@ vector<double> CoupledResistance::getResistance() const {
             allRadii.push_back(radii[b][k]);
             owner.push_back(b);
         }
-    Matrix resistance = CoupledResistanceMath::resistance("CoupledResistance::getResistance (blobs numbered across all bodies, in the order added)",
-                                                          positions, allRadii, owner, origins, periodic ? box : NULL);
+    Matrix resistance = CoupledResistanceMath::resistance("CoupledResistance::getResistance", positions, allRadii, owner, origins, periodic ? box : NULL,
+                                                          CoupledResistanceMath::BodyNames(), wall ? std::optional<double>(wallZ) : std::nullopt);
     // Calibrated bodies: T^T R T, T block-diagonal, each block from the body's blobs alone.
     for (int b = 0; b < numBodies; b++) {
         if (ownResistance[b].empty())
             continue;
         std::string name = "CoupledResistance::getResistance (body "+std::to_string(b)+")";
-        Eigen::MatrixXd alone = CoupledResistanceMath::resistance(name, blobs[b], radii[b], vector<int>(blobs[b].size(), 0), {origins[b]});
+        Eigen::MatrixXd alone = CoupledResistanceMath::resistance(name, blobs[b], radii[b], vector<int>(blobs[b].size(), 0), {origins[b]}, NULL,
+                                                                  [b] (int) { return "body "+std::to_string(b); });
         Eigen::MatrixXd own = Eigen::Map<const Matrix>(ownResistance[b].data(), 6, 6);
         Eigen::MatrixXd t = CoupledResistanceMath::calibration(name, alone, own);
         resistance.middleRows(6*b, 6) = (t*resistance.middleRows(6*b, 6)).eval();
@@ -105,14 +118,36 @@ vector<double> CoupledResistance::getMobility() const {
     return toVector(mobility);
 }
 
+void CoupledResistanceMath::validateBlobs(const std::string& caller, const vector<Vec3>& positions, const vector<double>& radii, const vector<int>& owner,
+                                          const Vec3* boxVectors, const BodyNames& bodyNames, std::optional<double> wallZ) {
+    // Each blob by its index in its body: blob i's owner holds the blobs since the body's first.
+    auto names = [&] (int i) {
+        int first = i;
+        while (first > 0 && owner[first-1] == owner[i])
+            first--;
+        return "blob "+std::to_string(i-first)+" of "+(bodyNames ? bodyNames(owner[i]) : "body "+std::to_string(owner[i]));
+    };
+    if (owner.size() != positions.size())
+        throw OpenMMException(caller+": "+std::to_string(positions.size())+" blobs but "+std::to_string(owner.size())+" owners");
+    BeadHydrodynamics::validate(caller, positions, radii, names);
+    if (boxVectors != NULL && wallZ)
+        throw OpenMMException(caller+": bodies above a no-slip wall cannot also be in a periodic box (that is not supported)");
+    if (boxVectors != NULL)
+        PeriodicRotnePragerYamakawa(boxVectors).validate(caller, positions, radii, names);
+    if (wallZ)
+        RotnePragerBlake::validate(caller, positions, radii, *wallZ, names);
+}
+
 Eigen::MatrixXd CoupledResistanceMath::resistance(const std::string& caller, const vector<Vec3>& positions, const vector<double>& radii,
-                                                  const vector<int>& owner, const vector<Vec3>& origins, const Vec3* boxVectors) {
+                                                  const vector<int>& owner, const vector<Vec3>& origins, const Vec3* boxVectors, const BodyNames& bodyNames,
+                                                  std::optional<double> wallZ) {
     // Two bodies may hold the same sphere: M would be singular, and the message names both blobs.
-    BeadHydrodynamics::validate(caller, positions, radii);
+    validateBlobs(caller, positions, radii, owner, boxVectors, bodyNames, wallZ);
     const int numBlobs = positions.size();
     const int numBodies = origins.size();
     // The lower triangle is enough.
-    Eigen::MatrixXd mobility = (boxVectors != NULL ? PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii) : mobilityMatrix(positions, radii));
+    Eigen::MatrixXd mobility = (boxVectors != NULL ? PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii) :
+                                wallZ ? RotnePragerBlake::mobilityMatrix(positions, radii, *wallZ) : mobilityMatrix(positions, radii));
     // K: blob k of body b moves at V_b - skew(r_k - o_b) omega_b.
     Eigen::MatrixXd k = Eigen::MatrixXd::Zero(3*numBlobs, 6*numBodies);
     for (int i = 0; i < numBlobs; i++) {
@@ -132,22 +167,16 @@ Eigen::MatrixXd CoupledResistanceMath::resistance(const std::string& caller, con
 }
 
 Eigen::MatrixXd CoupledResistanceMath::mobilityMatrix(const vector<Vec3>& positions, const vector<double>& radii, const KrylovSolvers::ParallelFor& parallel) {
-    const int n = positions.size();
-    Eigen::MatrixXd mobility(3*n, 3*n);
-    parallel(n, [&] (int begin, int end) {
-        for (int i = begin; i < end; i++) {
-            for (int j = 0; j < i; j++) {
-                double block[9];
-                Vec3 d = positions[j]-positions[i];
-                RotnePragerYamakawa::mobilityBlock(d[0], d[1], d[2], radii[i], radii[j], block);
-                for (int k = 0; k < 3; k++)
-                    for (int l = 0; l < 3; l++)
-                        mobility(3*i+k, 3*j+l) = block[3*k+l];
-            }
-            mobility.block<3, 3>(3*i, 3*i) = RotnePragerYamakawa::selfMobility(radii[i])*Eigen::Matrix3d::Identity();
+    return lowerTriangle(positions.size(), [&] (int i, int j, double block[9]) {
+        if (i == j) {
+            const double self = RotnePragerYamakawa::selfMobility(radii[i]);
+            for (int k = 0; k < 9; k++)
+                block[k] = (k%4 == 0 ? self : 0.0);
+            return;
         }
-    });
-    return mobility;
+        Vec3 d = positions[j]-positions[i];
+        RotnePragerYamakawa::mobilityBlock(d[0], d[1], d[2], radii[i], radii[j], block);
+    }, parallel);
 }
 
 void CoupledResistanceMath::mobilityProduct(const vector<Vec3>& positions, const vector<double>& radii, const Eigen::VectorXd& f, Eigen::VectorXd& out,

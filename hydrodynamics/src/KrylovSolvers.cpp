@@ -1,57 +1,139 @@
 #include "internal/KrylovSolvers.h"
+#include "internal/MessageFormat.h"
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 
 using namespace RigidLangevinPlugin;
+using namespace RigidLangevinPlugin::KrylovSolvers;
+using namespace RigidLangevinPlugin::MessageFormat;
 using Eigen::VectorXd;
+
+namespace {
+
+std::string iterations(int count) {
+    return std::to_string(count)+(count == 1 ? " iteration" : " iterations");
+}
+
+/** Whether r^T P r (rz) is usable; if not, the report says why. */
+bool checkPreconditioned(const VectorXd& r, double rz, double& largest, Result& report) {
+    if (!std::isfinite(rz)) {
+        report.outcome = NotFinite;
+        return false;
+    }
+    double quotient = rz/r.squaredNorm();
+    if (!(rz > 0)) {
+        report.outcome = PreconditionerNotPositiveDefinite;
+        report.curvature = quotient;
+        report.largestCurvature = largest;
+        return false;
+    }
+    largest = std::max(largest, quotient);
+    return true;
+}
+
+} // namespace
 
 void KrylovSolvers::sequentially(int count, const std::function<void (int begin, int end)>& task) {
     task(0, count);
 }
 
-int KrylovSolvers::conjugateGradient(const Operator& a, const Operator& preconditioner, const VectorXd& b, VectorXd& x, double tolerance, int maxIterations,
-                                     double& residual) {
+std::string KrylovSolvers::explain(const Result& result) {
+    const std::string error = " (relative error "+str(result.residual)+", asked for "+str(result.tolerance)+")";
+    const std::string after = " after "+iterations(result.iterations);
+    const std::string largest = (result.largestCurvature > 0 ? "; the largest seen is "+str(result.largestCurvature) : "");
+    switch (result.outcome) {
+    case Converged:
+        return "converged in "+iterations(result.iterations)+error;
+    case NotConverged:
+        return "did not converge in "+iterations(result.iterations)+error;
+    case NotPositiveDefinite:
+        return "found the operator not positive definite"+after+": a Rayleigh quotient of it on its Krylov space is "+str(result.curvature)+
+               " (all are positive for a positive definite operator"+largest+")";
+    case PreconditionerNotPositiveDefinite:
+        return "found the preconditioner P not positive definite"+after+": r^T P r/r^T r is "+str(result.curvature)+" for a residual r"+
+               " (positive for a positive definite P"+largest+")";
+    case NotFinite:
+        return "met a right-hand side or a product that is not finite (NaN or infinite)"+after;
+    }
+    return "ended in an unknown way";
+}
+
+Result KrylovSolvers::conjugateGradient(const Operator& a, const Operator& preconditioner, const VectorXd& b, VectorXd& x, double tolerance, int maxIterations) {
+    Result report = {Converged, 0, tolerance, maxIterations, 0, 0, 0};
     const int n = b.size();
     if (x.size() != n)
         x = VectorXd::Zero(n);
     const double bNorm = b.norm();
+    if (!std::isfinite(bNorm)) {
+        report.outcome = NotFinite;
+        return report;
+    }
     if (bNorm == 0) {
         x.setZero();
-        residual = 0;
-        return 0;
+        return report;
     }
     VectorXd r(n), z(n), p(n), ap(n);
     a(x, ap);
     r = b-ap;
-    residual = r.norm()/bNorm;
-    if (residual <= tolerance)
-        return 0;
+    report.residual = r.norm()/bNorm;
+    if (!std::isfinite(report.residual)) {
+        report.outcome = NotFinite;
+        return report;
+    }
+    if (report.residual <= tolerance)
+        return report;
+    double largestA = 0, largestP = 0;
     preconditioner(r, z);
-    p = z;
     double rz = r.dot(z);
+    if (!checkPreconditioned(r, rz, largestP, report))
+        return report;
+    p = z;
     for (int iteration = 1; iteration <= maxIterations; iteration++) {
         a(p, ap);
-        double alpha = rz/p.dot(ap);
+        report.iterations = iteration;
+        // A positive definite A has p^T A p > 0 for every p: anything else is no rounding error
+        // that more iterations would cure.
+        const double pap = p.dot(ap);
+        if (!std::isfinite(pap)) {
+            report.outcome = NotFinite;
+            return report;
+        }
+        if (!(pap > 0)) {
+            report.outcome = NotPositiveDefinite;
+            report.curvature = pap/p.squaredNorm();
+            report.largestCurvature = largestA;
+            return report;
+        }
+        largestA = std::max(largestA, pap/p.squaredNorm());
+        double alpha = rz/pap;
         x += alpha*p;
         r -= alpha*ap;
-        residual = r.norm()/bNorm;
-        if (residual <= tolerance)
-            return iteration;
+        report.residual = r.norm()/bNorm;
+        if (report.residual <= tolerance)
+            return report;
         preconditioner(r, z);
         double rzNext = r.dot(z);
+        if (!checkPreconditioned(r, rzNext, largestP, report))
+            return report;
         p = z+(rzNext/rz)*p;
         rz = rzNext;
     }
-    return -1;
+    report.outcome = NotConverged;
+    return report;
 }
 
-int KrylovSolvers::lanczosSquareRoot(const Operator& a, const VectorXd& w, VectorXd& result, double tolerance, int maxIterations, double& change) {
+Result KrylovSolvers::lanczosSquareRoot(const Operator& a, const VectorXd& w, VectorXd& result, double tolerance, int maxIterations) {
+    Result report = {Converged, 0, tolerance, maxIterations, 0, 0, 0};
     const int n = w.size();
     const double wNorm = w.norm();
     result = VectorXd::Zero(n);
-    change = 0;
+    if (!std::isfinite(wNorm)) {
+        report.outcome = NotFinite;
+        return report;
+    }
     if (wNorm == 0)
-        return 0;
+        return report;
     const int maxBasis = std::min(maxIterations, n);
     Eigen::MatrixXd basis(n, maxBasis);
     VectorXd alpha(maxBasis), beta(maxBasis);
@@ -59,6 +141,7 @@ int KrylovSolvers::lanczosSquareRoot(const Operator& a, const VectorXd& w, Vecto
     VectorXd v(n), previous = VectorXd::Zero(n);
     for (int m = 0; m < maxBasis; m++) {
         a(basis.col(m), v);
+        report.iterations = m+1;
         alpha[m] = basis.col(m).dot(v);
         v -= alpha[m]*basis.col(m);
         if (m > 0)
@@ -67,6 +150,10 @@ int KrylovSolvers::lanczosSquareRoot(const Operator& a, const VectorXd& w, Vecto
         for (int pass = 0; pass < 2; pass++)
             v -= basis.leftCols(m+1)*(basis.leftCols(m+1).transpose()*v);
         beta[m] = v.norm();
+        if (!std::isfinite(alpha[m]) || !std::isfinite(beta[m])) {
+            report.outcome = NotFinite;
+            return report;
+        }
         const bool exhausted = (beta[m] <= 1e-14*std::abs(alpha[m]) || m+1 == n);
         if (!exhausted && m+1 < maxBasis && m%3 != 2) {
             // The estimate is formed every third vector: its eigendecomposition costs more than a
@@ -82,15 +169,25 @@ int KrylovSolvers::lanczosSquareRoot(const Operator& a, const VectorXd& w, Vecto
                 t(i, i+1) = t(i+1, i) = beta[i];
         }
         Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(t);
+        // T's eigenvalues lie within A's: one significantly below zero means A is not positive
+        // definite, and its square root would be a fiction. Those within rounding of zero are zero.
+        const double smallest = eigen.eigenvalues()[0], largest = eigen.eigenvalues()[m];
+        if (!(largest > 0) || smallest < -NegativeRitzTolerance*largest) {
+            report.outcome = NotPositiveDefinite;
+            report.curvature = smallest;
+            report.largestCurvature = largest;
+            return report;
+        }
         VectorXd root = eigen.eigenvectors()*eigen.eigenvalues().cwiseMax(0).cwiseSqrt().asDiagonal()*eigen.eigenvectors().row(0).transpose();
         result = wNorm*(basis.leftCols(m+1)*root);
-        change = (result-previous).norm()/result.norm();
+        report.residual = (result-previous).norm()/result.norm();
         // Converged, or the Krylov space is exhausted (then the answer is exact).
-        if ((m > 2 && change <= tolerance) || exhausted)
-            return m+1;
+        if ((m > 2 && report.residual <= tolerance) || exhausted)
+            return report;
         previous = result;
         if (m+1 < maxBasis)
             basis.col(m+1) = v/beta[m];
     }
-    return -1;
+    report.outcome = NotConverged;
+    return report;
 }

@@ -1,9 +1,13 @@
 #include "internal/PeriodicRotnePragerYamakawa.h"
-#include "internal/RotnePragerYamakawa.h"
+#include "internal/BeadHydrodynamics.h"
+#include "internal/HasimotoSplit.h"
+#include "internal/MessageFormat.h"
 #include "openmm/OpenMMException.h"
 #include <cmath>
+#include <limits>
 
 using namespace RigidLangevinPlugin;
+using namespace RigidLangevinPlugin::MessageFormat;
 using OpenMM::OpenMMException;
 using OpenMM::Vec3;
 using std::vector;
@@ -16,36 +20,22 @@ const double Tolerance = 1e-16;
 const double WaveCutoffX = 41.5;
 /** F(r) falls as exp(-(xi (r - a_i - a_j))^2): beyond contact by this over xi it is below Tolerance. */
 const double RealCutoff = 6.5;
-/** The trapezoid rule's aliasing error for G: exp(-(this)^2) beyond the integrand's band limit. */
-const double AliasingMargin = 7.0;
 
 double sinc(double x) {
     return (std::abs(x) < 1e-4 ? 1-x*x/6 : std::sin(x)/x);
 }
 
-/** The spherical Bessel functions j0 and j2. */
-void besselJ0J2(double x, double& j0, double& j2) {
-    if (x < 1.0) {
-        // Series: j_n(x) = x^n sum_k (-x^2/2)^k / (k! (2n+2k+1)!!), free of the closed form's cancellation.
-        j0 = 0;
-        j2 = 0;
-        double term0 = 1, term2 = x*x/15;
-        for (int k = 0; k < 12; k++) {
-            j0 += term0;
-            j2 += term2;
-            term0 *= -x*x/(2*(k+1)*(2*k+3));
-            term2 *= -x*x/(2*(k+1)*(2*k+7));
-        }
-        return;
-    }
-    double s = std::sin(x), c = std::cos(x);
-    j0 = s/x;
-    j2 = (3/(x*x*x)-1/x)*s-3*c/(x*x);
-}
-
-double hasimotoWeight(double k2, double xi) {
-    double x = k2/(4*xi*xi);
-    return (1+x)*std::exp(-x);
+/** The pair (i, j), i <= j, of index p in the row-by-row list of an n x n upper triangle. */
+void trianglePair(long long p, int n, int& i, int& j) {
+    // Row i starts at i n - i (i - 1)/2; invert that quadratic, then correct its rounding.
+    const double b = 2.0*n+1;
+    i = (int) ((b-std::sqrt(b*b-8.0*p))/2);
+    auto rowStart = [n] (long long row) { return row*n-row*(row-1)/2; };
+    while (i > 0 && rowStart(i) > p)
+        i--;
+    while (i+1 < n && rowStart(i+1) <= p)
+        i++;
+    j = i+(int) (p-rowStart(i));
 }
 
 } // namespace
@@ -70,49 +60,78 @@ PeriodicRotnePragerYamakawa::PeriodicRotnePragerYamakawa(const Vec3 boxVectors[3
     waveCutoff = 2*xi*std::sqrt(WaveCutoffX);
 }
 
-void PeriodicRotnePragerYamakawa::realSpaceBlock(const Vec3& d, double ai, double aj, double block[9]) const {
-    RotnePragerYamakawa::mobilityBlock(d[0], d[1], d[2], ai, aj, block);
-    // G = A I + B rr: the trapezoid rule on the even integrand (band-limited to a_i + a_j + r, times
-    // a Gaussian of width 1/xi), with a step whose aliases fall AliasingMargin/xi beyond that.
-    const double r = std::sqrt(d.dot(d));
-    const double dk = 2*M_PI/(ai+aj+r+AliasingMargin/xi);
-    const int numNodes = (int) std::ceil(waveCutoff/dk);
-    double a = 0, b = 0;
-    for (int n = 0; n <= numNodes; n++) {
-        double k = n*dk;
-        double j0, j2;
-        besselJ0J2(k*r, j0, j2);
-        double weight = (n == 0 ? 0.5 : 1.0)*dk*sinc(k*ai)*sinc(k*aj)*hasimotoWeight(k*k, xi)/(2*M_PI*M_PI);
-        a += weight*(2.0/3.0*j0-j2/3);
-        b += weight*j2;
-    }
-    const double dyadicPerR2 = (r > 0 ? b/(r*r) : 0.0);
-    for (int k = 0; k < 3; k++)
-        for (int l = 0; l < 3; l++)
-            block[3*k+l] -= dyadicPerR2*d[k]*d[l]+(k == l ? a : 0.0);
+Vec3 PeriodicRotnePragerYamakawa::reduced(Vec3 d) const {
+    d -= box[2]*std::round(d.dot(reciprocal[2])/(2*M_PI));
+    d -= box[1]*std::round(d.dot(reciprocal[1])/(2*M_PI));
+    d -= box[0]*std::round(d.dot(reciprocal[0])/(2*M_PI));
+    return d;
 }
 
-Eigen::MatrixXd PeriodicRotnePragerYamakawa::mobility(const vector<Vec3>& positions, const vector<double>& radii) const {
+double PeriodicRotnePragerYamakawa::getSmallestWidth() const {
+    double width = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 3; i++)
+        width = std::min(width, 2*M_PI/std::sqrt(reciprocal[i].dot(reciprocal[i])));
+    return width;
+}
+
+void PeriodicRotnePragerYamakawa::validate(const std::string& caller, const vector<Vec3>& positions, const vector<double>& radii,
+                                           const std::function<std::string (int)>& names) const {
+    const double halfWidth = 0.5*getSmallestWidth();
+    for (int i = 0; i < (int) radii.size(); i++)
+        if (!(2*radii[i] < halfWidth))
+            throw OpenMMException(caller+": "+names(i)+" has radius "+str(radii[i])+" nm, too large for the periodic box: a blob's diameter must be under "
+                    "half the box's smallest width ("+str(halfWidth)+" nm), so that blobs overlap no more than the nearest image of each other (as a "
+                    "body must be narrower than half the box). Use a larger box, or smaller blobs (radius under "+str(0.5*halfWidth)+" nm)");
+    // The same sphere through the box: sorted by the distance from the planes of box vectors 1
+    // and 2, wrapped into the box.
+    const double spacing = 2*M_PI/std::sqrt(reciprocal[0].dot(reciprocal[0]));
+    vector<double> keys(positions.size());
+    for (int i = 0; i < (int) positions.size(); i++) {
+        double s = positions[i].dot(reciprocal[0])/(2*M_PI);
+        keys[i] = (s-std::floor(s))*spacing;
+    }
+    std::pair<int, int> same = BeadHydrodynamics::findCoincident(keys, spacing, [&](int i, int j) { return reduced(positions[j]-positions[i]); }, radii);
+    if (same.first >= 0) {
+        int i = same.first, j = same.second;
+        throw OpenMMException(caller+": "+names(i)+" and "+names(j)+" are the same sphere through the periodic box: they are a box vector apart ("+
+                describe(positions[i])+" and "+describe(positions[j])+" nm), with radius "+str(radii[i])+" nm, so their mobility would be singular. "
+                "Remove one of them (positions on both faces of the box, such as 0 and the box's side, are the same place)");
+    }
+}
+
+void PeriodicRotnePragerYamakawa::realSpaceBlock(const Vec3& d, double ai, double aj, double block[9]) const {
+    HasimotoSplit::realSpaceBlock(d, ai, aj, xi, block);
+}
+
+Eigen::MatrixXd PeriodicRotnePragerYamakawa::mobility(const vector<Vec3>& positions, const vector<double>& radii, const ParallelFor& parallel) const {
     const int n = positions.size();
     Eigen::MatrixXd m = Eigen::MatrixXd::Zero(3*n, 3*n);
+    addRealSpace(positions, radii, m, parallel);
+    addWaveSpace(positions, radii, m, parallel);
+    return m;
+}
+
+void PeriodicRotnePragerYamakawa::addRealSpace(const vector<Vec3>& positions, const vector<double>& radii, Eigen::MatrixXd& m, const ParallelFor& parallel) const {
+    // Every image of every pair (a blob's own images included) within the cutoff.
+    const int n = positions.size();
     double maxRadius = 0;
     for (double a : radii)
         maxRadius = std::max(maxRadius, a);
-
-    // Real space: every image of every pair (a blob's own images included) within the cutoff.
     const double cutoff = 2*maxRadius+realCutoffBeyondContact;
     int range[3];
     for (int i = 0; i < 3; i++) {
         double planeSpacing = 2*M_PI/std::sqrt(reciprocal[i].dot(reciprocal[i]));
         range[i] = (int) std::ceil(cutoff/planeSpacing)+1;
     }
-    for (int i = 0; i < n; i++)
-        for (int j = i; j < n; j++) {
-            Vec3 d = positions[j]-positions[i];
+    // The pairs i <= j shared out evenly; each writes its own two blocks.
+    const long long numPairs = (long long) n*(n+1)/2;
+    const int numChunks = (int) std::min<long long>(numPairs, 1024);
+    parallel(numChunks, [&] (int firstChunk, int endChunk) {
+        for (long long p = numPairs*firstChunk/numChunks; p < numPairs*endChunk/numChunks; p++) {
+            int i, j;
+            trianglePair(p, n, i, j);
             // Into the box's reduced cell first, so that the image ranges cover the cutoff.
-            d -= box[2]*std::round(d.dot(reciprocal[2])/(2*M_PI));
-            d -= box[1]*std::round(d.dot(reciprocal[1])/(2*M_PI));
-            d -= box[0]*std::round(d.dot(reciprocal[0])/(2*M_PI));
+            Vec3 d = reduced(positions[j]-positions[i]);
             const double pairCutoff = radii[i]+radii[j]+realCutoffBeyondContact;
             double sum[9] = {0};
             for (int u = -range[0]; u <= range[0]; u++)
@@ -132,10 +151,11 @@ Eigen::MatrixXd PeriodicRotnePragerYamakawa::mobility(const vector<Vec3>& positi
                     m(3*j+l, 3*i+k) = sum[3*k+l];
                 }
         }
+    });
+}
 
-    // Wave space, over half the lattice (k and -k give the same term): with c_i = sinc(k a_i)
-    // cos(k.r_i) and s_i likewise with sin, component (x, y) of the pair blocks gains
-    // w (I - kk)_xy (c c^T + s s^T), summed over all k as matrix products.
+vector<Vec3> PeriodicRotnePragerYamakawa::waveVectors() const {
+    // Half the lattice: k and -k give the same term.
     int waveRange[3];
     for (int i = 0; i < 3; i++)
         waveRange[i] = (int) std::ceil(waveCutoff*std::sqrt(box[i].dot(box[i]))/(2*M_PI));
@@ -147,32 +167,47 @@ Eigen::MatrixXd PeriodicRotnePragerYamakawa::mobility(const vector<Vec3>& positi
                 if (k.dot(k) <= waveCutoff*waveCutoff)
                     waves.push_back(k);
             }
+    return waves;
+}
+
+void PeriodicRotnePragerYamakawa::addWaveSpace(const vector<Vec3>& positions, const vector<double>& radii, Eigen::MatrixXd& m, const ParallelFor& parallel) const {
+    // With c_i = sinc(k a_i) cos(k.r_i) and s_i likewise with sin, component (x, y) of the pair
+    // blocks gains w (I - kk)_xy (c c^T + s s^T), summed over all k as matrix products.
+    const int n = positions.size();
+    const vector<Vec3> waves = waveVectors();
     const int numWaves = waves.size();
     Eigen::MatrixXd c(n, numWaves), s(n, numWaves), weights(6, numWaves);
     const int component[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
-    for (int q = 0; q < numWaves; q++) {
-        const Vec3& k = waves[q];
-        double k2 = k.dot(k), kk = std::sqrt(k2);
-        double w = 2*hasimotoWeight(k2, xi)/(k2*volume);
-        for (int p = 0; p < 6; p++) {
-            int x = component[p][0], y = component[p][1];
-            weights(p, q) = w*((x == y ? 1.0 : 0.0)-k[x]*k[y]/k2);
-        }
-        for (int i = 0; i < n; i++) {
-            double phase = k.dot(positions[i]), size = sinc(kk*radii[i]);
-            c(i, q) = size*std::cos(phase);
-            s(i, q) = size*std::sin(phase);
-        }
-    }
-    for (int p = 0; p < 6; p++) {
-        Eigen::MatrixXd sum = c*weights.row(p).asDiagonal()*c.transpose()+s*weights.row(p).asDiagonal()*s.transpose();
-        int x = component[p][0], y = component[p][1];
-        for (int i = 0; i < n; i++)
-            for (int j = 0; j < n; j++) {
-                m(3*i+x, 3*j+y) += sum(i, j);
-                if (x != y)
-                    m(3*i+y, 3*j+x) += sum(i, j);
+    parallel(numWaves, [&] (int begin, int end) {
+        for (int q = begin; q < end; q++) {
+            const Vec3& k = waves[q];
+            double k2 = k.dot(k), kk = std::sqrt(k2);
+            double w = 2*HasimotoSplit::weight(k2, xi)/(k2*volume);
+            for (int p = 0; p < 6; p++) {
+                int x = component[p][0], y = component[p][1];
+                weights(p, q) = w*((x == y ? 1.0 : 0.0)-k[x]*k[y]/k2);
             }
-    }
-    return m;
+            for (int i = 0; i < n; i++) {
+                double phase = k.dot(positions[i]), size = sinc(kk*radii[i]);
+                c(i, q) = size*std::cos(phase);
+                s(i, q) = size*std::sin(phase);
+            }
+        }
+    });
+    // Row blocks of each product on their own thread; each writes its own rows of m.
+    const int rowBlock = 32, numRowBlocks = (n+rowBlock-1)/rowBlock;
+    parallel(6*numRowBlocks, [&] (int begin, int end) {
+        for (int task = begin; task < end; task++) {
+            const int p = task/numRowBlocks, first = (task%numRowBlocks)*rowBlock, rows = std::min(rowBlock, n-first);
+            const int x = component[p][0], y = component[p][1];
+            Eigen::MatrixXd sum = c.middleRows(first, rows)*weights.row(p).asDiagonal()*c.transpose()+
+                                  s.middleRows(first, rows)*weights.row(p).asDiagonal()*s.transpose();
+            for (int i = first; i < first+rows; i++)
+                for (int j = 0; j < n; j++) {
+                    m(3*i+x, 3*j+y) += sum(i-first, j);
+                    if (x != y)
+                        m(3*i+y, 3*j+x) += sum(i-first, j);
+                }
+        }
+    });
 }

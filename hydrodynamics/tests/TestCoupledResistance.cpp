@@ -242,19 +242,54 @@ TEST(CoupledResistance, RejectsBadInput) {
     EXPECT_THROW(coupled.addBody({Vec3(0, 0, 0)}, {0.0}, Vec3()), OpenMMException);
     EXPECT_THROW(coupled.addBody({Vec3(0, 0, 0), Vec3(1, 0, 0)}, {0.1}, Vec3()), OpenMMException);
     EXPECT_THROW(coupled.addBody({Vec3(0, 0, 0)}, {0.1}, Vec3(std::nan(""), 0, 0)), OpenMMException);
-    // The same sphere in two bodies makes M singular: refused, naming both blobs.
+    // The same sphere in two bodies makes M singular: refused, naming both blobs by body.
     coupled.addBody({Vec3(0, 0, 0), Vec3(0.3, 0, 0), Vec3(0, 0.3, 0)}, {0.1, 0.1, 0.1}, Vec3());
-    coupled.addBody({Vec3(0.3, 0, 0), Vec3(1, 0, 0), Vec3(1, 0.3, 0)}, {0.1, 0.1, 0.1}, Vec3(1, 0, 0));
-    try {
-        coupled.getResistance();
-        FAIL() << "two bodies holding the same sphere were accepted";
-    }
-    catch (const OpenMMException& e) {
-        std::string message = e.what();
-        // The blobs by their index over all bodies (body 0's second, body 1's first): "1" and "3"
-        // alone were in any message ("0.100000").
-        EXPECT_NE(message.find("beads 1 and 3 are coincident"), std::string::npos) << message;
-    }
+    coupled.addBody({Vec3(1, 0, 0), Vec3(0.3, 0, 0), Vec3(1, 0.3, 0)}, {0.1, 0.1, 0.1}, Vec3(1, 0, 0));
+    expectThrowMentioning([&] { coupled.getResistance(); }, {"blob 1 of body 0 and blob 1 of body 1", "coincident"});
+}
+
+TEST(CoupledResistance, RefusesBlobsTooLargeForThePeriodicBox) {
+    // A blob's diameter must be under half the box's smallest width, the least distance between
+    // opposite faces: here, in a triclinic box, 1.7698 nm (the planes of a and of b), less than any of
+    // its vectors' components (2, 2, 1.9). Blobs of radius 0.44 nm pass, 0.45 nm are refused, naming
+    // the blob and what to change; without the rule both give a resistance.
+    const Vec3 box[3] = {Vec3(2, 0, 0), Vec3(0, 2, 0), Vec3(1, 1, 1.9)};
+    const Vec3 normal = box[1].cross(box[2]);
+    const double width = box[0].dot(normal)/std::sqrt(normal.dot(normal));
+    ASSERT_NEAR(width, 1.7698, 1e-4);
+    auto coupled = [&] (double radius) {
+        CoupledResistance c;
+        c.setPeriodicBox(box[0], box[1], box[2]);
+        c.addBody({Vec3(0, 0, 0), Vec3(0.5, 0, 0), Vec3(0, 0.5, 0)}, {0.1, 0.1, 0.1}, Vec3());
+        c.addBody({Vec3(1, 1, 0.2), Vec3(1, 1, 0.7), Vec3(1.5, 1, 0.2)}, {0.1, radius, 0.1}, Vec3(1, 1, 0.2));
+        return c.getResistance();
+    };
+    ASSERT_LT(2*0.44, width/2);
+    EXPECT_NO_THROW(coupled(0.44));
+    ASSERT_GT(2*0.45, width/2);
+    expectThrowMentioning([&] { coupled(0.45); }, {"CoupledResistance::getResistance", "blob 1 of body 1", "radius 0.45 nm",
+                                                   "half the box's smallest width (0.88", "larger box", "smaller blobs"});
+}
+
+TEST(CoupledResistance, RefusesTheSameSphereThroughThePeriodicBox) {
+    // Blobs a box vector apart are one sphere in the box: M is singular. Refused, naming both, for
+    // a shift by vectors of a triclinic box, and for blobs on opposite faces of it (keys just above 0
+    // and just below the box's width along a's planes, the two ends of the sorted scan); blobs a
+    // little further apart pass.
+    const Vec3 box[3] = {Vec3(2, 0, 0), Vec3(0.3, 1.9, 0), Vec3(-0.2, 0.4, 2.1)};
+    auto coupled = [&] (const Vec3& first, const Vec3& second) {
+        CoupledResistance c;
+        c.setPeriodicBox(box[0], box[1], box[2]);
+        c.addBody({first, Vec3(0.5, 0.6, 0.7), Vec3(0.5, 0.9, 0.7)}, {0.1, 0.1, 0.1}, first);
+        c.addBody({Vec3(1.2, 1, 1), Vec3(1.2, 1.3, 1), second}, {0.1, 0.1, 0.1}, Vec3(1.2, 1, 1));
+        return c.getResistance();
+    };
+    const Vec3 p(0.1, 0.2, 0.3);
+    expectThrowMentioning([&] { coupled(p, p+box[0]*2-box[2]+box[1]); }, {"blob 0 of body 0 and blob 2 of body 1", "same sphere through the periodic box"});
+    EXPECT_NO_THROW(coupled(p, p+box[0]*2-box[2]+box[1]+Vec3(0.05, 0, 0)));
+    // On the plane of b and c through the origin: a's fractional coordinate is 5e-14 and 1 - 5e-14.
+    expectThrowMentioning([&] { coupled(Vec3(1e-13, 1, 1.26), Vec3(2-1e-13, 1, 1.26)); }, {"blob 0 of body 0 and blob 2 of body 1", "same sphere"});
+    expectThrowMentioning([&] { coupled(Vec3(2-1e-13, 1, 1.26), Vec3(1e-13, 1, 1.26)); }, {"blob 0 of body 0 and blob 2 of body 1", "same sphere"});
 }
 
 TEST(CoupledResistance, CalibrationGivesALoneBodyItsOwnTensor) {

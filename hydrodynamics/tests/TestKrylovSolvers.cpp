@@ -1,12 +1,14 @@
 // The Krylov methods against the dense answer: conjugate gradients (plain and preconditioned) and
 // Lanczos A^1/2 w on the RPY mobility of random overlapping blobs, whose matrix-free product is the
-// dense matrix's; failure to converge is reported, not hidden.
+// dense matrix's; failure to converge, an operator or preconditioner that is not positive definite
+// and products that are not finite are reported, each as such, not hidden.
 
 #include "internal/CoupledResistanceMath.h"
 #include "internal/KrylovSolvers.h"
 #include "openmm/Vec3.h"
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 #include <gtest/gtest.h>
 #include <random>
 
@@ -81,19 +83,24 @@ TEST(KrylovSolvers, ConjugateGradientSolvesToItsTolerance) {
     };
     for (const KrylovSolvers::Operator* preconditioner : {&none, &jacobi}) {
         Eigen::VectorXd x;
-        double residual;
-        int iterations = KrylovSolvers::conjugateGradient(blobs.product(), *preconditioner, b, x, 1e-12, 1000, residual);
-        EXPECT_GT(iterations, 0);
-        EXPECT_LE(residual, 1e-12);
+        KrylovSolvers::Result result = KrylovSolvers::conjugateGradient(blobs.product(), *preconditioner, b, x, 1e-12, 1000);
+        EXPECT_EQ(result.outcome, KrylovSolvers::Converged);
+        EXPECT_GT(result.iterations, 0);
+        EXPECT_LE(result.residual, 1e-12);
         EXPECT_LT((x-exact).norm(), 1e-9*exact.norm());
         // Started from the answer, it stops at once.
-        EXPECT_EQ(KrylovSolvers::conjugateGradient(blobs.product(), *preconditioner, b, x, 1e-9, 1000, residual), 0);
+        result = KrylovSolvers::conjugateGradient(blobs.product(), *preconditioner, b, x, 1e-9, 1000);
+        EXPECT_EQ(result.outcome, KrylovSolvers::Converged);
+        EXPECT_EQ(result.iterations, 0);
     }
     // Too few iterations: reported, with the residual reached.
     Eigen::VectorXd x;
-    double residual;
-    EXPECT_EQ(KrylovSolvers::conjugateGradient(blobs.product(), none, b, x, 1e-12, 3, residual), -1);
-    EXPECT_GT(residual, 1e-12);
+    KrylovSolvers::Result result = KrylovSolvers::conjugateGradient(blobs.product(), none, b, x, 1e-12, 3);
+    EXPECT_EQ(result.outcome, KrylovSolvers::NotConverged);
+    EXPECT_EQ(result.iterations, 3);
+    EXPECT_GT(result.residual, 1e-12);
+    std::string why = KrylovSolvers::explain(result);
+    EXPECT_NE(why.find("did not converge in 3 iterations"), std::string::npos) << why;
 }
 
 TEST(KrylovSolvers, LanczosSquareRootIsTheMatrixSquareRoot) {
@@ -107,11 +114,124 @@ TEST(KrylovSolvers, LanczosSquareRootIsTheMatrixSquareRoot) {
     for (int i = 0; i < n; i++)
         w[i] = normal(random);
     Eigen::VectorXd exact = root*w, result;
-    double change;
-    int iterations = KrylovSolvers::lanczosSquareRoot(blobs.product(), w, result, 1e-10, 200, change);
-    EXPECT_GT(iterations, 2);
-    EXPECT_LT(iterations, n);  // far fewer than the matrix's size
+    KrylovSolvers::Result report = KrylovSolvers::lanczosSquareRoot(blobs.product(), w, result, 1e-10, 200);
+    EXPECT_EQ(report.outcome, KrylovSolvers::Converged);
+    EXPECT_GT(report.iterations, 2);
+    EXPECT_LT(report.iterations, n);  // far fewer than the matrix's size
     EXPECT_LT((result-exact).norm(), 1e-8*exact.norm());
-    EXPECT_EQ(KrylovSolvers::lanczosSquareRoot(blobs.product(), w, result, 1e-10, 3, change), -1);
-    EXPECT_GT(change, 1e-10);
+    report = KrylovSolvers::lanczosSquareRoot(blobs.product(), w, result, 1e-10, 3);
+    EXPECT_EQ(report.outcome, KrylovSolvers::NotConverged);
+    EXPECT_EQ(report.iterations, 3);
+    EXPECT_GT(report.residual, 1e-10);
+}
+
+namespace {
+
+/** Q diag(eigenvalues) Q^T, Q a random rotation, as an operator that counts its products. */
+struct SymmetricMatrix {
+    Eigen::MatrixXd matrix;
+    int products = 0;
+    explicit SymmetricMatrix(const Eigen::VectorXd& eigenvalues) {
+        std::mt19937 random(12);
+        std::normal_distribution<double> normal;
+        const int n = eigenvalues.size();
+        Eigen::MatrixXd g(n, n);
+        for (int i = 0; i < n*n; i++)
+            g.data()[i] = normal(random);
+        Eigen::HouseholderQR<Eigen::MatrixXd> qr(g);
+        Eigen::MatrixXd q = qr.householderQ();
+        matrix = q*eigenvalues.asDiagonal()*q.transpose();
+        matrix = (0.5*(matrix+matrix.transpose())).eval();
+    }
+    KrylovSolvers::Operator product() {
+        return [this] (const Eigen::VectorXd& in, Eigen::VectorXd& out) { products++; out = matrix*in; };
+    }
+};
+
+Eigen::VectorXd randomVector(int n, unsigned seed) {
+    std::mt19937 random(seed);
+    std::normal_distribution<double> normal;
+    Eigen::VectorXd v(n);
+    for (int i = 0; i < n; i++)
+        v[i] = normal(random);
+    return v;
+}
+
+const KrylovSolvers::Operator Identity = [] (const Eigen::VectorXd& in, Eigen::VectorXd& out) { out = in; };
+
+} // namespace
+
+TEST(KrylovSolvers, IndefiniteOperatorsFailLoudly) {
+    // Eigenvalues 0.5 ... 5 and one negative (-1, or -1e-3 of the largest, far above rounding):
+    // conjugate gradients meet p^T A p < 0 and Lanczos a negative eigenvalue of T, each reported as
+    // such, not as convergence (without the checks CG solves this indefinite system happily and
+    // Lanczos returns the square root with the negative eigenvalue clipped) and not after
+    // maxIterations.
+    const int n = 40;
+    for (double negative : {-1.0, -5e-3}) {
+        SCOPED_TRACE("negative eigenvalue "+std::to_string(negative));
+        Eigen::VectorXd eigenvalues = Eigen::VectorXd::LinSpaced(n, 0.5, 5);
+        eigenvalues[n/2] = negative;
+        SymmetricMatrix a(eigenvalues);
+        Eigen::VectorXd b = randomVector(n, 4), x, result;
+        KrylovSolvers::Result cg = KrylovSolvers::conjugateGradient(a.product(), Identity, b, x, 1e-12, 1000);
+        EXPECT_EQ(cg.outcome, KrylovSolvers::NotPositiveDefinite);
+        EXPECT_LE(cg.curvature, 0);
+        EXPECT_GT(cg.largestCurvature, 0);
+        EXPECT_LE(cg.iterations, n);
+        std::string why = KrylovSolvers::explain(cg);
+        EXPECT_NE(why.find("not positive definite"), std::string::npos) << why;
+        KrylovSolvers::Result lanczos = KrylovSolvers::lanczosSquareRoot(a.product(), b, result, 1e-10, 1000);
+        EXPECT_EQ(lanczos.outcome, KrylovSolvers::NotPositiveDefinite);
+        EXPECT_LT(lanczos.curvature, -KrylovSolvers::NegativeRitzTolerance*lanczos.largestCurvature);
+        EXPECT_GE(lanczos.curvature, negative-1e-9);  // T's eigenvalues lie within A's
+        EXPECT_LE(lanczos.iterations, n);
+        std::cout << "negative eigenvalue " << negative << ": CG stopped after " << cg.iterations << " iterations (p^T A p/p^T p " << cg.curvature
+                  << "), Lanczos after " << lanczos.iterations << " (T's smallest eigenvalue " << lanczos.curvature << ")" << std::endl;
+    }
+    // Positive semidefinite, rank half: T's eigenvalues at zero are rounding, not indefiniteness,
+    // and the square root is still right.
+    Eigen::VectorXd eigenvalues = Eigen::VectorXd::LinSpaced(n, 0.5, 5);
+    eigenvalues.head(n/2).setZero();
+    SymmetricMatrix singular(eigenvalues);
+    Eigen::VectorXd w = randomVector(n, 6), result;
+    KrylovSolvers::Result report = KrylovSolvers::lanczosSquareRoot(singular.product(), w, result, 1e-10, 1000);
+    EXPECT_EQ(report.outcome, KrylovSolvers::Converged);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(singular.matrix);
+    Eigen::VectorXd exact = eigen.eigenvectors()*eigen.eigenvalues().cwiseMax(0).cwiseSqrt().asDiagonal()*eigen.eigenvectors().transpose()*w;
+    EXPECT_LT((result-exact).norm(), 1e-8*exact.norm());
+}
+
+TEST(KrylovSolvers, IndefinitePreconditionerAndNonFiniteProductsFailAtOnce) {
+    const int n = 40;
+    SymmetricMatrix a(Eigen::VectorXd::LinSpaced(n, 0.5, 5));
+    Eigen::VectorXd b = randomVector(n, 9), x, result;
+    // A preconditioner that is not positive definite: r^T P r < 0 before the first iteration.
+    KrylovSolvers::Operator negative = [] (const Eigen::VectorXd& in, Eigen::VectorXd& out) { out = -in; };
+    KrylovSolvers::Result report = KrylovSolvers::conjugateGradient(a.product(), negative, b, x, 1e-12, 1000);
+    EXPECT_EQ(report.outcome, KrylovSolvers::PreconditionerNotPositiveDefinite);
+    EXPECT_NEAR(report.curvature, -1, 1e-12);
+    EXPECT_EQ(report.iterations, 0);
+    // NaN in a product, or in the right-hand side: stopped at the first product, or before any.
+    int products = 0;
+    KrylovSolvers::Operator broken = [&] (const Eigen::VectorXd& in, Eigen::VectorXd& out) {
+        products++;
+        out = in;
+        out[3] = std::nan("");
+    };
+    report = KrylovSolvers::conjugateGradient(broken, Identity, b, x, 1e-12, 1000);
+    EXPECT_EQ(report.outcome, KrylovSolvers::NotFinite);
+    EXPECT_EQ(products, 1);
+    report = KrylovSolvers::lanczosSquareRoot(broken, b, result, 1e-10, 1000);
+    EXPECT_EQ(report.outcome, KrylovSolvers::NotFinite);
+    EXPECT_EQ(products, 2);
+    Eigen::VectorXd nan = b;
+    nan[0] = std::nan("");
+    x.resize(0);
+    a.products = 0;
+    EXPECT_EQ(KrylovSolvers::conjugateGradient(a.product(), Identity, nan, x, 1e-12, 1000).outcome, KrylovSolvers::NotFinite);
+    EXPECT_EQ(KrylovSolvers::lanczosSquareRoot(a.product(), nan, result, 1e-10, 1000).outcome, KrylovSolvers::NotFinite);
+    EXPECT_EQ(a.products, 0);
+    std::string why = KrylovSolvers::explain(report);
+    EXPECT_NE(why.find("not finite"), std::string::npos) << why;
 }

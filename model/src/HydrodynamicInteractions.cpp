@@ -10,7 +10,34 @@ using OpenMM::OpenMMException;
 using OpenMM::Vec3;
 using std::vector;
 
-HydrodynamicInteractions::HydrodynamicInteractions(const RigidBodyModel& model) : model(model) {
+namespace {
+
+/** How the integrator's messages about the coupled bodies begin. */
+const std::string Caller = "RigidLangevinIntegrator: hydrodynamic interactions";
+
+} // namespace
+
+int RigidLangevinPlugin::checkHydrodynamicSolve(const std::string& solve, const KrylovSolvers::Result& result, int numBodies, int numBlobs) {
+    if (result.outcome == KrylovSolvers::Converged)
+        return result.iterations;
+    std::string advice;
+    if (result.outcome == KrylovSolvers::NotConverged)
+        advice = "Blobs that nearly coincide, or very unequal blobs, make the mobility ill-conditioned: give the bodies blobs of similar size that do not "
+                 "nearly coincide";
+    else if (result.outcome == KrylovSolvers::NotFinite)
+        advice = "The blobs were checked finite before the solve, so the bodies' velocities were not (after a force that was not?) or a product "
+                 "overflowed: look for such forces and for blobs that nearly coincide, and compare with the dense solver "
+                 "(RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER=dense)";
+    else
+        advice = "The blobs' mobility, and so this operator, is positive definite for every configuration of distinct blobs: here it is singular to "
+                 "rounding (blobs that nearly coincide: merge or move them) or its products are wrong; the dense solver "
+                 "(RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER=dense) factorises it exactly";
+    throw OpenMMException(Caller+": "+solve+" "+KrylovSolvers::explain(result)+", with "+std::to_string(numBodies)+" bodies of "+std::to_string(numBlobs)+
+                          " blobs. "+advice);
+}
+
+
+HydrodynamicInteractions::HydrodynamicInteractions(const RigidBodyModel& model, std::optional<double> wallZ) : model(model), wallZ(wallZ) {
     for (int t = 0; t < model.getNumTypes(); t++) {
         const BodyType& type = model.getType(t);
         TypeBlobs blobs;
@@ -18,7 +45,8 @@ HydrodynamicInteractions::HydrodynamicInteractions(const RigidBodyModel& model) 
         std::string caller = "RigidLangevinIntegrator: hydrodynamic interactions of "+model.getBodyName(model.getFirstBodyOfType(t));
         // The blobs' resistance alone and the body's own friction, in its frame about its centre
         // of mass, over the motions it makes.
-        Eigen::MatrixXd alone = CoupledResistanceMath::resistance(caller, blobs.coords, blobs.radii, vector<int>(blobs.coords.size(), 0), {Vec3()});
+        Eigen::MatrixXd alone = CoupledResistanceMath::resistance(caller, blobs.coords, blobs.radii, vector<int>(blobs.coords.size(), 0), {Vec3()}, NULL,
+                                                                  [&] (int) { return model.getBodyName(model.getFirstBodyOfType(t)); });
         vector<int> active = type.getActiveCoordinates();
         int n = active.size();
         Eigen::MatrixXd d(n, n), own(n, n);
@@ -69,6 +97,17 @@ HydrodynamicInteractions::HydrodynamicInteractions(const RigidBodyModel& model) 
     }
 }
 
+CoupledResistanceMath::BodyNames HydrodynamicInteractions::bodyNames() const {
+    return [this] (int body) { return model.getBodyName(body); };
+}
+
+void HydrodynamicInteractions::validateBlobs(const vector<Vec3>& positions, const vector<double>& radii, const Vec3* boxVectors) const {
+    vector<int> owner;
+    for (int b = 0; b < model.getNumBodies(); b++)
+        owner.insert(owner.end(), types[model.getBodyType(b)].coords.size(), b);
+    CoupledResistanceMath::validateBlobs(Caller, positions, radii, owner, boxVectors, bodyNames(), wallZ);
+}
+
 int HydrodynamicInteractions::getNumBlobs() const {
     int count = 0;
     for (int b = 0; b < model.getNumBodies(); b++)
@@ -98,8 +137,7 @@ Eigen::MatrixXd HydrodynamicInteractions::computeResistance(const vector<BodySta
         owner.insert(owner.end(), types[model.getBodyType(b)].coords.size(), b);
         origins.push_back(states[b].position);
     }
-    Eigen::MatrixXd r = CoupledResistanceMath::resistance("RigidLangevinIntegrator: hydrodynamic interactions (blobs numbered across all bodies in order, "
-            "free particles last)", positions, radii, owner, origins, boxVectors);
+    Eigen::MatrixXd r = CoupledResistanceMath::resistance(Caller, positions, radii, owner, origins, boxVectors, bodyNames(), wallZ);
     // Each body's rows and columns into its frame (Q, lab to body, on its force and its torque),
     // then calibrated: T_a R_ab T_b.
     for (int b = 0; b < numBodies; b++) {
@@ -181,6 +219,9 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
     vector<int> firstBlob(numBodies);
     for (int b = 0, k = 0; b < numBodies; k += types[model.getBodyType(b)].coords.size(), b++)
         firstBlob[b] = k;
+    // What the dense path refuses, refused here before any product: non-finite positions would
+    // spend every iteration on NaN, and two blobs the same sphere make M singular.
+    validateBlobs(positions, radii, boxVectors);
     const double c = 0.5*h*viscosity;
     // Each type's friction preconditioner, for this c.
     for (int t = 0; t < (int) types.size(); t++) {
@@ -243,24 +284,16 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
             }
         });
     };
-    auto fail = [&] (const std::string& what, double residual) {
-        throw OpenMMException("RigidLangevinIntegrator: hydrodynamic interactions: "+what+" did not converge in "+std::to_string(maxIterations)+
-                " iterations (relative residual "+std::to_string(residual)+", asked for "+std::to_string(tolerance)+") with "+std::to_string(numBodies)+
-                " bodies of "+std::to_string(numBlobs)+" blobs. Blobs that nearly coincide, or very unequal blobs, make the mobility ill-conditioned: "
-                "give the bodies blobs of similar size that do not nearly coincide");
-    };
     KrylovIterations iterations = {0, 0, 0};
     const VectorXd& masses = getMasses();
     VectorXd z = 2*masses.cwiseProduct(u);
     if (kT > 0) {
         VectorXd root, solved;
-        double change, residual;
-        iterations.noise = KrylovSolvers::lanczosSquareRoot(mobility, normals, root, tolerance, maxIterations, change);
-        if (iterations.noise < 0)
-            fail("the Lanczos iteration for the noise", change);
-        iterations.noiseSolve = KrylovSolvers::conjugateGradient(mobility, blockSolver(false), root, solved, tolerance, maxIterations, residual);
-        if (iterations.noiseSolve < 0)
-            fail("the conjugate-gradient solve for the noise", residual);
+        iterations.noise = checkHydrodynamicSolve("the Lanczos square root of the blobs' mobility for the noise",
+                                      KrylovSolvers::lanczosSquareRoot(mobility, normals, root, tolerance, maxIterations), numBodies, numBlobs);
+        iterations.noiseSolve = checkHydrodynamicSolve("the conjugate gradients on the blobs' mobility for the noise",
+                                           KrylovSolvers::conjugateGradient(mobility, blockSolver(false), root, solved, tolerance, maxIterations),
+                                           numBodies, numBlobs);
         VectorXd xi;
         applyKT(solved, xi);
         z += std::sqrt(2*kT*h*viscosity)*xi;
@@ -274,10 +307,8 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
         applyK(back.cwiseQuotient(masses), forward);
         out = out/c+forward;
     };
-    double residual;
-    iterations.friction = KrylovSolvers::conjugateGradient(schur, blockSolver(true), rhs, y, tolerance, maxIterations, residual);
-    if (iterations.friction < 0)
-        fail("the conjugate-gradient solve for the friction", residual);
+    iterations.friction = checkHydrodynamicSolve("the conjugate gradients for the friction (on M/c + K M_b^-1 K^T, M the blobs' mobility)",
+                                     KrylovSolvers::conjugateGradient(schur, blockSolver(true), rhs, y, tolerance, maxIterations), numBodies, numBlobs);
     VectorXd back;
     applyKT(y, back);
     u = (z-back).cwiseQuotient(masses)-u;

@@ -251,7 +251,7 @@ vector<Vec3> RigidBodyModel::unwrappedOffsets(int body, const vector<Vec3>& posi
     return rel;
 }
 
-bool RigidBodyModel::matchType(int type, int body, const vector<Vec3>& offsets, double rotation[3][3], double& deviation, int& worst) const {
+bool RigidBodyModel::matchType(int type, const vector<Vec3>& offsets, double rotation[3][3], double& deviation, int& worst) const {
     // The rotation A (body frame to lab) that best places the type's shape on the body; Q = A^T.
     Eigen::Matrix3d a;
     deviation = fitRotation(types[type].coords, offsets, a, worst);
@@ -333,7 +333,7 @@ void RigidBodyModel::getTypeBlobs(int type, vector<Vec3>& coords, vector<double>
     }
 }
 
-Matrix6 RigidBodyModel::bodyFrameResistance(int body, const vector<Vec3>& offsets, const Vec3& centre, const double rotation[3][3]) const {
+Matrix6 RigidBodyModel::bodyFrameResistance(int body, const vector<Vec3>& offsets, const double rotation[3][3]) const {
     Eigen::Matrix3d q = toMatrix3(rotation);
     BodyParticles particles = bodyParticles[body];
     if (body < numUserBodies && !explicitTensor[body].empty()) {
@@ -392,7 +392,7 @@ void RigidBodyModel::classifyFriction(BodyType& t, const string& name) {
                     t.resistance(i, j) = 0;
 }
 
-int RigidBodyModel::createType(int body, const vector<Vec3>& offsets, const Vec3& centre, double rotation[3][3]) {
+int RigidBodyModel::createType(int body, const vector<Vec3>& offsets, double rotation[3][3]) {
     BodyParticles particles = bodyParticles[body];
     string name = bodyName(body, numUserBodies, particles);
     BodyType t;
@@ -450,13 +450,13 @@ int RigidBodyModel::createType(int body, const vector<Vec3>& offsets, const Vec3
 
     // Friction per unit viscosity in the body frame about the centre of mass.
     t.explicitResistance = (body < numUserBodies && !explicitTensor[body].empty());
-    t.resistance = bodyFrameResistance(body, offsets, centre, rotation);
+    t.resistance = bodyFrameResistance(body, offsets, rotation);
     classifyFriction(t, name);
     types.push_back(t);
     return types.size()-1;
 }
 
-int RigidBodyModel::findOrCreateType(int body, const vector<Vec3>& offsets, const Vec3& centre, double rotation[3][3]) {
+int RigidBodyModel::findOrCreateType(int body, const vector<Vec3>& offsets, double rotation[3][3]) {
     // Bodies with the same masses, radii and friction model, whose shapes agree up to a rotation,
     // share a type (and take its exact shape).
     BodyParticles particles = bodyParticles[body];
@@ -479,10 +479,10 @@ int RigidBodyModel::findOrCreateType(int body, const vector<Vec3>& offsets, cons
     for (auto it = range.first; it != range.second; ++it) {
         double deviation;
         int worst;
-        if (!matchType(it->second, body, offsets, rotation, deviation, worst))
+        if (!matchType(it->second, offsets, rotation, deviation, worst))
             continue;
         if (isExplicit) {
-            Matrix6 xi = bodyFrameResistance(body, offsets, centre, rotation);
+            Matrix6 xi = bodyFrameResistance(body, offsets, rotation);
             const Matrix6& typeXi = types[it->second].resistance;
             if ((xi-typeXi).cwiseAbs().maxCoeff() > 1e-8*typeXi.cwiseAbs().maxCoeff())
                 continue;
@@ -501,7 +501,7 @@ int RigidBodyModel::findOrCreateType(int body, const vector<Vec3>& offsets, cons
         }
         return it->second;
     }
-    int type = createType(body, offsets, centre, rotation);
+    int type = createType(body, offsets, rotation);
     typesBySignature.insert(std::make_pair(signature, type));
     return type;
 }
@@ -561,11 +561,11 @@ vector<BodyState> RigidBodyModel::fitStates(const vector<Vec3>& positions, const
         BodyState& s = states[b];
         vector<Vec3> offsets = unwrappedOffsets(b, shapes, box, s.position);
         if (firstBuild)
-            bodyType[b] = findOrCreateType(b, offsets, s.position, s.rotation);
+            bodyType[b] = findOrCreateType(b, offsets, s.rotation);
         else {
             double deviation;
             int worst;
-            if (!matchType(bodyType[b], b, offsets, s.rotation, deviation, worst))
+            if (!matchType(bodyType[b], offsets, s.rotation, deviation, worst))
                 throw OpenMMException("RigidLangevinIntegrator: the positions deform "+bodyName(b, numUserBodies, particles)+": particle "+
                         std::to_string(particles[worst])+" is "+str(deviation)+" nm from its place in the rigid body (tolerance "+str(GeometryTolerance)+
                         " nm). Bodies keep the shape of the positions first set on the Context; to change shapes, call Context.reinitialize()");

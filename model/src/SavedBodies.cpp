@@ -192,7 +192,7 @@ bool RigidBodyModel::savedBodiesMatch(const SavedBodies& saved) const {
         return false;
     for (int b = 0; b < getNumBodies(); b++) {
         const BodyType& type = saved.types[saved.bodyType[b]];
-        if (type.masses.size() != bodyParticles[b].size())
+        if ((int) type.masses.size() != bodyParticles[b].size())
             return false;
         for (int i = 0; i < (int) bodyParticles[b].size(); i++) {
             int p = bodyParticles[b][i];

@@ -26,7 +26,7 @@ import openmm.unit as unit
 
 from .core import CoupledResistance, ResistanceTensor
 
-__all__ = ['ResistanceTensor', 'CoupledResistance', 'coupledResistance', 'coupledMobility', 'sphere', 'ellipsoid', 'spheroid', 'beads', 'beadVolume', 'unionVolume', 'roughShell',
+__all__ = ['ResistanceTensor', 'CoupledResistance', 'coupledResistance', 'coupledMobility', 'resistanceAboveWall', 'sphere', 'ellipsoid', 'spheroid', 'beads', 'beadVolume', 'unionVolume', 'roughShell',
            'roughShellBeads', 'shellExtrapolated', 'spheroidRoughShell', 'spheroidRoughShellBeads', 'spheroidShellExtrapolated',
            'scaleBlobsToFriction', 'freeDrainingBeads', 'explicit', 'protein', 'HYDROPRO_ATOMIC_RADIUS', 'diffusionConstants']
 
@@ -152,10 +152,12 @@ def explicit(matrix, origin=(0, 0, 0)):
     return ResistanceTensor.explicit(matrix, _point(origin))
 
 
-def _coupled(bodies, own, box):
+def _coupled(bodies, own, box, wall):
     coupled = CoupledResistance()
     if box is not None:
         coupled.setPeriodicBox(*_vectors(box))
+    if wall is not None:
+        coupled.setWall(_length(wall))
     for body in bodies:
         if len(body) != 3:
             raise ValueError('each body is (blob positions, blob radii, reference point)')
@@ -170,7 +172,7 @@ def _coupled(bodies, own, box):
     return coupled
 
 
-def coupledResistance(bodies, own=None, box=None):
+def coupledResistance(bodies, own=None, box=None, wall=None):
     """The resistance per unit viscosity of several bodies that feel each other through the solvent
     (see CoupledResistance): a (6N, 6N) numpy array, body by body in the order given, each with its
     velocity (of its reference point) first and its angular velocity second; blocks in nm, nm^2, nm^3.
@@ -188,15 +190,37 @@ def coupledResistance(bodies, own=None, box=None):
 
     box: optionally, the three vectors of a periodic box (a 3x3 array, a list of Vec3 or a Quantity,
     nm): the blobs then feel every image (see CoupledResistance.setPeriodicBox).
+
+    wall: optionally, the height z0 (nm or a Quantity) of a no-slip wall below the bodies, the plane
+    z = z0: the blobs' mobility is then Rotne-Prager-Blake's (see CoupledResistance.setWall), and a
+    blob whose centre is at or below the wall is refused, naming its body. Not with box.
     """
-    return _coupled(bodies, own, box).getResistance()
+    return _coupled(bodies, own, box, wall).getResistance()
 
 
-def coupledMobility(bodies, own=None, box=None):
-    """The inverse of coupledResistance(bodies, own, box): (velocities, angular velocities) = mobility
-    (forces, torques) / viscosity. Refused, naming the body, where a body cannot rotate about some
-    axis (one blob, or blobs on one line)."""
-    return _coupled(bodies, own, box).getMobility()
+def coupledMobility(bodies, own=None, box=None, wall=None):
+    """The inverse of coupledResistance(bodies, own, box, wall): (velocities, angular velocities) =
+    mobility (forces, torques) / viscosity. Refused, naming the body, where a body cannot rotate about
+    some axis (one blob, or blobs on one line)."""
+    return _coupled(bodies, own, box, wall).getMobility()
+
+
+def resistanceAboveWall(positions, radii, wall=0.0, origin=None):
+    """One body's resistance per unit viscosity above a no-slip wall, the plane z = wall (nm or a
+    Quantity): its blobs' K^T M^-1 K with M Rotne-Prager-Blake's (see CoupledResistance.setWall), a
+    (6, 6) numpy array about origin (nm or a Quantity; default the blobs' centroid), blocks in nm,
+    nm^2, nm^3, velocity first and angular velocity second.
+
+    positions: the blobs' centres where the body is now (its height and orientation: the
+    resistance depends on both, so compute it again where the body moves; it is not a
+    ResistanceTensor, which would follow the body as if the wall were not there), an (N, 3) array, a
+    list of Vec3 or a Quantity (nm); radii a sequence or a Quantity (nm). A blob whose centre is at or
+    below the wall is refused.
+    """
+    blobs = _vectors(positions)
+    if origin is None:
+        origin = np.mean([[p[0], p[1], p[2]] for p in blobs], axis=0)
+    return coupledResistance([(blobs, radii, origin)], wall=wall)
 
 
 #: HYDROPRO's atomic element radius (AER) for atomic-level models: each non-hydrogen atom becomes a

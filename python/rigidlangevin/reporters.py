@@ -11,7 +11,7 @@ class _CsvReporter(object):
     def __init__(self, file, reportInterval, append):
         self._reportInterval = reportInterval
         self._openedFile = isinstance(file, str)
-        self._out = open(file, 'a' if append else 'w') if self._openedFile else file
+        self._out = open(file, 'a' if append else 'w', encoding='utf-8') if self._openedFile else file
         self._wroteHeader = append
 
     def describeNextReport(self, simulation):

@@ -32,7 +32,7 @@ def main(models):
         simulation.context.setVelocitiesToTemperature(300, 1)
         simulation.step(50000)
         state = simulation.context.getState(getPositions=True, enforcePeriodicBox=True)
-        with open(HERE/f'water_{model}.pdb', 'w') as out:
+        with open(HERE/f'water_{model}.pdb', 'w', encoding='utf-8') as out:
             app.PDBFile.writeFile(modeller.topology, state.getPositions(), out)
         print(model, modeller.topology.getNumResidues(), 'waters written', flush=True)
 

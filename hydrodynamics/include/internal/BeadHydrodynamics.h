@@ -4,7 +4,9 @@
 #include "internal/ResistanceMath.h"
 #include "internal/windowsExportHydrodynamics.h"
 #include "openmm/Vec3.h"
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace RigidLangevinPlugin {
@@ -39,14 +41,28 @@ OPENMM_EXPORT_HYDRODYNAMICS int getNumThreads();
 /** Whether the AVX2 kernel was built and this CPU (and operating system) can run it. */
 OPENMM_EXPORT_HYDRODYNAMICS bool isAVX2KernelAvailable();
 
+/** The name of bead i in messages (such as "blob 2 of body 1"); where none is given, "bead i". */
+typedef std::function<std::string (int bead)> BeadNames;
+
 /**
  * Throw an OpenMMException, whose message starts with caller, unless the bead model is usable: at
  * least one bead, as many radii as positions, finite positions, positive finite radii, and no two
  * beads coincident (the same position and radius to 1e-10 of the radius: the same sphere twice
- * would make B singular). The message names the offending bead or beads by index.
+ * would make B singular). The message names the offending bead or beads, by names if given.
  */
 OPENMM_EXPORT_HYDRODYNAMICS void validate(const std::string& caller, const std::vector<OpenMM::Vec3>& positions,
-                                          const std::vector<double>& radii);
+                                          const std::vector<double>& radii, const BeadNames& names = BeadNames());
+
+/**
+ * A pair (i < j) of beads that are the same sphere, |difference(i, j)| and |radii[i] - radii[j]|
+ * both within 1e-10 of the larger radius, or (-1, -1) if there is none. Candidates are found by
+ * sorting keys: a coordinate of each bead (nm) whose difference between two beads |difference|
+ * cannot be shorter than; with period > 0 the keys lie in [0, period) and wrap around (the width
+ * of a periodic box across the planes they measure along).
+ */
+OPENMM_EXPORT_HYDRODYNAMICS std::pair<int, int> findCoincident(const std::vector<double>& keys, double period,
+                                                               const std::function<OpenMM::Vec3 (int i, int j)>& difference,
+                                                               const std::vector<double>& radii);
 
 /**
  * The resistance tensor per unit viscosity of the bead model about origin (convention of

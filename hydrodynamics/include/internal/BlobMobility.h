@@ -25,25 +25,45 @@ public:
     virtual void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors = NULL) = 0;
     /** out = M f, for forces f (3 per blob, in the blobs' order); out is resized to f's size. */
     virtual void multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out) = 0;
+    /**
+     * Bound the fluid by a no-slip wall, the plane z = wallZ (nm), the fluid above it: from the next
+     * setBlobs() on, M is the regularised Rotne-Prager-Blake mobility (RotnePragerBlake.h), and
+     * setBlobs() refuses a blob whose centre is at or below the wall (throwing a
+     * RotnePragerBlake::BlobBelowWallException that says which blob) and a periodic box. This
+     * default throws: an implementation without a wall says so rather than ignore it.
+     */
+    virtual void setWall(double wallZ);
 };
 
 /**
- * M on the host. Up to MaxStoredBlobs blobs setBlobs() forms M once (its lower triangle, 8 (3B)^2
+ * M on the host, in an unbounded solvent, a periodic box or above a wall (setWall()). Up to
+ * MaxStoredBlobs blobs (or the constructor's maxStoredBlobs) setBlobs() forms M once (its lower triangle, 8 (3B)^2
  * bytes: 130 MB at the limit) and each product is a matrix-vector product, several times cheaper
  * than evaluating every pair's block again; beyond, every product evaluates the pairs
  * (matrix-free). Both share their rows out by parallel. In a periodic box M is always formed (the
- * Ewald sum of every pair's images and the wave-space sum, once per setBlobs(), on the calling
- * thread: PeriodicRotnePragerYamakawa has no matrix-free product yet), whatever the number of blobs.
+ * dense Ewald sum of every pair's images and the wave-space sum, once per setBlobs(), shared out by
+ * parallel), whatever the number of blobs; PositivelySplitEwald is the matrix-free periodic product.
+ * Above a wall a pair's block costs about twice an unbounded one's (its image part), formed or
+ * matrix-free alike.
  */
 class OPENMM_EXPORT_HYDRODYNAMICS HostBlobMobility : public BlobMobility {
 public:
     static const int MaxStoredBlobs = 1350;
-    explicit HostBlobMobility(const KrylovSolvers::ParallelFor& parallel = KrylovSolvers::sequentially) : parallel(parallel) {
+    /**
+     * @param parallel        how rows are shared out among threads
+     * @param maxStoredBlobs  up to how many blobs M is formed rather than applied matrix-free
+     */
+    explicit HostBlobMobility(const KrylovSolvers::ParallelFor& parallel = KrylovSolvers::sequentially, int maxStoredBlobs = MaxStoredBlobs)
+        : parallel(parallel), maxStoredBlobs(maxStoredBlobs), wall(false), wallZ(0) {
     }
     void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors = NULL);
     void multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out);
+    void setWall(double wallZ);
 private:
     KrylovSolvers::ParallelFor parallel;
+    int maxStoredBlobs;
+    bool wall;
+    double wallZ;
     std::vector<OpenMM::Vec3> positions;
     std::vector<double> radii;
     Eigen::MatrixXd stored;  // empty when matrix-free

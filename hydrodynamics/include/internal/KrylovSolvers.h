@@ -4,6 +4,7 @@
 #include "internal/windowsExportHydrodynamics.h"
 #include <Eigen/Core>
 #include <functional>
+#include <string>
 
 namespace RigidLangevinPlugin {
 
@@ -12,7 +13,9 @@ namespace RigidLangevinPlugin {
  * coupled friction of many bodies (HydrodynamicInteractions): preconditioned conjugate gradients
  * for A x = b, and Lanczos for A^1/2 w (the noise; Ando, Chow, Saad & Skolnick, J. Chem. Phys.
  * 137, 064106 (2012)). Both stop at a relative tolerance and report failure instead of returning
- * an unconverged answer; the caller names what did not converge.
+ * an unconverged answer: not converging, an operator (or preconditioner) that shows it is not
+ * positive definite, and a product that is not finite each end the method at once with their own
+ * Outcome; the caller names which solve failed (explain() says why).
  */
 namespace KrylovSolvers {
 
@@ -25,27 +28,76 @@ typedef std::function<void (int count, const std::function<void (int begin, int 
 /** ParallelFor on the calling thread. */
 OPENMM_EXPORT_HYDRODYNAMICS void sequentially(int count, const std::function<void (int begin, int end)>& task);
 
+/** How a Krylov method ended. */
+enum Outcome {
+    /** It reached its tolerance: the answer holds. */
+    Converged,
+    /** maxIterations were not enough (the answer holds the last iterate). */
+    NotConverged,
+    /**
+     * The operator is not positive definite: conjugate gradients met a direction p with
+     * p^T A p <= 0, or Lanczos a tridiagonal T (a compression of A, whose eigenvalues lie within
+     * A's) with an eigenvalue below -NegativeRitzTolerance times its largest. More iterations
+     * cannot help, and any answer would be meaningless.
+     */
+    NotPositiveDefinite,
+    /** Conjugate gradients' preconditioner is not positive definite: r^T P r <= 0 for a residual r. */
+    PreconditionerNotPositiveDefinite,
+    /** The right-hand side, or a product with the operator or preconditioner, is not finite (NaN or infinite). */
+    NotFinite
+};
+
+/** What a Krylov method did: its outcome, the products with A it took, and the numbers that tell why. */
+struct Result {
+    Outcome outcome;
+    /** The products with A taken. */
+    int iterations;
+    /** The tolerance and iteration limit asked for. */
+    double tolerance;
+    int maxIterations;
+    /** Conjugate gradients: the relative residual |b - A x|/|b| reached; Lanczos: the relative
+     *  change |result - previous|/|result| of its last two estimates. */
+    double residual;
+    /** NotPositiveDefinite and PreconditionerNotPositiveDefinite: the Rayleigh quotient that is not
+     *  positive (p^T A p/p^T p, r^T P r/r^T r, or T's smallest eigenvalue), and the largest one of
+     *  the same operator the method had seen (0 where none). */
+    double curvature, largestCurvature;
+};
+
+/** T's eigenvalues above -this times its largest are taken as rounding errors of zero. */
+const double NegativeRitzTolerance = 1e-10;
+
+/** Why a Krylov method ended as it did, in words with its numbers ("did not converge in ..."). */
+OPENMM_EXPORT_HYDRODYNAMICS std::string explain(const Result& result);
+
 /**
  * Solve A x = b by conjugate gradients preconditioned by P (an approximation of A^-1, symmetric
  * positive definite), starting from x as given (resized to zero if its size differs), until
- * |b - A x| <= tolerance |b|.
- *
- * @return the number of iterations taken, or -1 if maxIterations were not enough (x then holds the
- *         last iterate, and residual its relative residual)
+ * |b - A x| <= tolerance |b|. Every step checks p^T A p > 0 and r^T P r > 0, which hold for
+ * every direction if A and P are symmetric positive definite, and that both are finite.
  */
-OPENMM_EXPORT_HYDRODYNAMICS int conjugateGradient(const Operator& a, const Operator& preconditioner, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-                                                  double tolerance, int maxIterations, double& residual);
+OPENMM_EXPORT_HYDRODYNAMICS Result conjugateGradient(const Operator& a, const Operator& preconditioner, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                                     double tolerance, int maxIterations);
 
 /**
  * result = A^1/2 w by the Lanczos process: with V the orthonormal Krylov basis of A from w and T
  * the tridiagonal V^T A V, result = |w| V T^1/2 e_1, stopped when two successive estimates (formed
- * every third iteration) differ by at most tolerance |result|. The basis is reorthogonalised fully (the number of iterations is
- * small and A's products dominate).
- *
- * @return the number of iterations (products with A) taken, or -1 if maxIterations were not enough
+ * every third iteration) differ by at most tolerance |result|. The basis is reorthogonalised fully
+ * (the number of iterations is small and A's products dominate). T's eigenvalues are checked at
+ * every estimate (NotPositiveDefinite) and every product for finiteness.
  */
-OPENMM_EXPORT_HYDRODYNAMICS int lanczosSquareRoot(const Operator& a, const Eigen::VectorXd& w, Eigen::VectorXd& result, double tolerance, int maxIterations,
-                                                  double& change);
+OPENMM_EXPORT_HYDRODYNAMICS Result lanczosSquareRoot(const Operator& a, const Eigen::VectorXd& w, Eigen::VectorXd& result, double tolerance,
+                                                     int maxIterations);
+
+/**
+ * Solve A x = b by GMRES(restart) with right preconditioning: the Krylov space of A P, P an
+ * approximation of A^-1 (any nonsingular operator: A need not be symmetric or definite, as the
+ * rigid bodies' saddle-point mobility problem is not), starting from x as given (resized to zero if
+ * its size differs), until |b - A x| <= tolerance |b|. The residual is the true one at each
+ * restart. Outcomes: Converged, NotConverged (after maxIterations products with A), NotFinite.
+ */
+OPENMM_EXPORT_HYDRODYNAMICS Result gmres(const Operator& a, const Operator& preconditioner, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                         double tolerance, int maxIterations, int restart = 60);
 
 } // namespace KrylovSolvers
 } // namespace RigidLangevinPlugin

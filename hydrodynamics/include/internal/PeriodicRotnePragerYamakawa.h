@@ -2,8 +2,10 @@
 #define RIGID_LANGEVIN_PERIODIC_ROTNE_PRAGER_YAMAKAWA_H_
 
 #include "openmm/Vec3.h"
+#include "internal/KrylovSolvers.h"
 #include "internal/windowsExportHydrodynamics.h"
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,15 +26,17 @@ namespace RigidLangevinPlugin {
  *   a real-space part   sum_n F(r + n),  F = RPY(r) - G(r),
  *
  * G being the inverse Fourier transform over all k of phi times the tensor: F is positive (the
- * weight 1 - phi is), short-ranged (phi = 1 - O(k^4), so no dipolar tail survives), and G(r), an
- * even, band-limited integrand times a Gaussian, is integrated to rounding by the trapezoid rule.
+ * weight 1 - phi is), short-ranged (phi = 1 - O(k^4), so no dipolar tail survives), and G(r) is
+ * evaluated in closed form (HasimotoSplit.h).
  * Both sums are cut where their terms fall below 1e-16 of the leading ones; xi only moves work
  * between them (the tests check the result does not depend on it). Exact for every configuration,
  * overlapping blobs and blobs overlapping their own images included; a lone blob in a cube of side
- * L has the mobility (1 - 2.837297 a/L + 4 pi/3 (a/L)^3)/(6 pi a) exactly.
+ * L, apart from its images (2a < L), has the mobility (1 - 2.837297 a/L + 4 pi/3 (a/L)^3)/(6 pi a)
+ * exactly. Bodies made of blobs need blobs under half the box across (validate()).
  *
  * Dense, O(N^2) times the number of wave vectors and images: the definition of correct that faster
- * periodic methods are tested against.
+ * periodic methods (PositivelySplitEwald) are tested against. The pairs and the wave vectors are
+ * shared out by the caller's ParallelFor.
  */
 class OPENMM_EXPORT_HYDRODYNAMICS PeriodicRotnePragerYamakawa {
 public:
@@ -41,14 +45,39 @@ public:
      * @param splitting   Hasimoto's xi (1/nm); 0 chooses one that balances the two sums
      */
     PeriodicRotnePragerYamakawa(const OpenMM::Vec3 boxVectors[3], double splitting = 0);
+    typedef KrylovSolvers::ParallelFor ParallelFor;
     /** The 3N x 3N mobility of blobs at positions with radii (both halves filled). */
-    Eigen::MatrixXd mobility(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii) const;
+    Eigen::MatrixXd mobility(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii,
+                             const ParallelFor& parallel = KrylovSolvers::sequentially) const;
     double getSplitting() const {
         return xi;
     }
     /** The real-space pair function F (3x3, row-major) of blobs with radii ai, aj, j at offset d from i. */
     void realSpaceBlock(const OpenMM::Vec3& d, double ai, double aj, double block[9]) const;
+    /** The box's smallest width (nm): the least distance between two opposite faces, which no
+     *  two images of a point are closer than. */
+    double getSmallestWidth() const;
+    /**
+     * Throw an OpenMMException, beginning with caller and naming blobs by names, unless blobs
+     * (finite, with positive radii: BeadHydrodynamics::validate()) suit the box:
+     *  - every blob's diameter is under half the box's smallest width. Then no two blobs, nor a
+     *    blob and its own images, overlap more than one image of each other: the near field of
+     *    every pair is that of its nearest images, as a body's particles must be within half the
+     *    box to be one body. Larger blobs overlap several images at once, where the
+     *    overlap-regularised RPY kernel no longer describes spheres in a box (nor Hasimoto's
+     *    a/L expansion a sphere among its images), though the sum itself stays defined;
+     *  - no two blobs are the same sphere through the box (positions a box vector apart, to 1e-10
+     *    of the radius, equal radii): M would be singular.
+     */
+    void validate(const std::string& caller, const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii,
+                  const std::function<std::string (int blob)>& names) const;
 private:
+    /** d less the lattice vector that puts it into the box's reduced cell. */
+    OpenMM::Vec3 reduced(OpenMM::Vec3 d) const;
+    void addRealSpace(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, Eigen::MatrixXd& m, const ParallelFor& parallel) const;
+    void addWaveSpace(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, Eigen::MatrixXd& m, const ParallelFor& parallel) const;
+    /** Half the reciprocal lattice (one of k and -k) within the wave cutoff, k = 0 left out. */
+    std::vector<OpenMM::Vec3> waveVectors() const;
     OpenMM::Vec3 box[3], reciprocal[3];
     double volume, xi, realCutoffBeyondContact, waveCutoff;
 };

@@ -25,21 +25,18 @@ namespace RigidLangevinPlugin {
 namespace RotnePragerYamakawa {
 
 /**
- * The 3x3 block mu_ij (row-major in block) for beads of radii ai and aj, bead j at offset
- * (dx, dy, dz) from bead i. Both radii must be positive. The block is symmetric and unchanged by
- * swapping the beads.
+ * mu_ij = isotropic I + dyadic rr (rr the unit vector's outer product) for beads of radii ai and aj
+ * at distance r >= 0. Both radii must be positive.
  */
-inline void mobilityBlock(double dx, double dy, double dz, double ai, double aj, double block[9]) {
-    const double r2 = dx*dx+dy*dy+dz*dz;
-    const double r = std::sqrt(r2);
-    double isotropic, dyadic;  // block = isotropic*I + dyadic*(d d^T)/r^2
+inline void mobilityCoefficients(double r, double ai, double aj, double& isotropic, double& dyadic) {
     if (r > ai+aj) {
-        const double sigma2 = (ai*ai+aj*aj)/r2;
+        const double sigma2 = (ai*ai+aj*aj)/(r*r);
         isotropic = (1+sigma2/3)/(8*M_PI*r);
         dyadic = (1-sigma2)/(8*M_PI*r);
     }
     else if (r > std::abs(ai-aj)) {
         const double d2 = (ai-aj)*(ai-aj);
+        const double r2 = r*r;
         const double r3 = r2*r;
         const double scale = 1/(6*M_PI*ai*aj*32*r3);
         const double s = d2+3*r2;
@@ -52,8 +49,27 @@ inline void mobilityBlock(double dx, double dy, double dz, double ai, double aj,
         isotropic = 1/(6*M_PI*std::fmax(ai, aj));
         dyadic = 0;
     }
+}
+
+/**
+ * The same block as two scalars for a squared distance r2 between centres: mu_ij = isotropic I +
+ * dyadicPerR2 d d^T for the offset d between them (either sign), as products over many pairs use it.
+ */
+inline void pairCoefficients(double r2, double ai, double aj, double& isotropic, double& dyadicPerR2) {
+    double dyadic;
+    mobilityCoefficients(std::sqrt(r2), ai, aj, isotropic, dyadic);
+    dyadicPerR2 = (r2 > 0 ? dyadic/r2 : 0.0);
+}
+
+/**
+ * The 3x3 block mu_ij (row-major in block) for beads of radii ai and aj, bead j at offset
+ * (dx, dy, dz) from bead i. Both radii must be positive. The block is symmetric and unchanged by
+ * swapping the beads.
+ */
+inline void mobilityBlock(double dx, double dy, double dz, double ai, double aj, double block[9]) {
+    double isotropic, dyadicPerR2;
+    pairCoefficients(dx*dx+dy*dy+dz*dz, ai, aj, isotropic, dyadicPerR2);
     const double d[3] = {dx, dy, dz};
-    const double dyadicPerR2 = (r2 > 0 ? dyadic/r2 : 0.0);
     for (int k = 0; k < 3; k++)
         for (int l = 0; l < 3; l++)
             block[3*k+l] = dyadicPerR2*d[k]*d[l]+(k == l ? isotropic : 0.0);

@@ -248,9 +248,9 @@ private:
     bool savedBodiesMatch(const SavedBodies& saved) const;
     /** Whether particles placed from states are at positions (within GeometryTolerance). */
     bool placedAt(const std::vector<BodyState>& states, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box) const;
-    int findOrCreateType(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, double rotation[3][3]);
-    bool matchType(int type, int body, const std::vector<OpenMM::Vec3>& offsets, double rotation[3][3], double& deviation, int& worst) const;
-    int createType(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, double rotation[3][3]);
+    int findOrCreateType(int body, const std::vector<OpenMM::Vec3>& offsets, double rotation[3][3]);
+    bool matchType(int type, const std::vector<OpenMM::Vec3>& offsets, double rotation[3][3], double& deviation, int& worst) const;
+    int createType(int body, const std::vector<OpenMM::Vec3>& offsets, double rotation[3][3]);
     /**
      * Set a type's friction class from its resistance (zeroing off-diagonal round-off of a diagonal
      * one); throws, naming the body, if it is not positive definite in the motions the body makes.
@@ -278,7 +278,7 @@ private:
                                       const std::string& given, const std::string& placedFor, OpenMM::Vec3& referenceCentre) const;
     void explicitBodyFrameBlobs(int body, const std::vector<OpenMM::Vec3>& offsets, const Eigen::Matrix3d& rotation,
                                 std::vector<OpenMM::Vec3>& coords) const;
-    Matrix6 bodyFrameResistance(int body, const std::vector<OpenMM::Vec3>& offsets, const OpenMM::Vec3& centre, const double rotation[3][3]) const;
+    Matrix6 bodyFrameResistance(int body, const std::vector<OpenMM::Vec3>& offsets, const double rotation[3][3]) const;
     std::vector<OpenMM::Vec3> unwrappedOffsets(int body, const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box, OpenMM::Vec3& centre) const;
     /** Throw if, in the positions that define the shapes, any body's particles lie more than half a box apart. */
     void checkBodiesWhole(const std::vector<OpenMM::Vec3>& positions, const OpenMM::Vec3* box) const;

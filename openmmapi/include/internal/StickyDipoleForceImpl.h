@@ -29,7 +29,7 @@ public:
     const StickyDipoleForce& getOwner() const {
         return owner;
     }
-    void updateContextState(OpenMM::ContextImpl& context, bool& forcesInvalid) {
+    void updateContextState(OpenMM::ContextImpl& /*context*/, bool& /*forcesInvalid*/) {
     }
     double calcForcesAndEnergy(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy, int groups);
     std::map<std::string, double> getDefaultParameters() {

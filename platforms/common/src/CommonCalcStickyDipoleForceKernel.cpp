@@ -82,7 +82,7 @@ class CommonCalcStickyDipoleForceKernel::ApplyForces : public ComputeContext::Fo
 public:
     ApplyForces(ComputeKernel kernel, int numSites, int forceGroup) : kernel(kernel), numSites(numSites), forceGroup(forceGroup) {
     }
-    double computeForceAndEnergy(bool includeForces, bool includeEnergy, int groups) {
+    double computeForceAndEnergy(bool includeForces, bool /*includeEnergy*/, int groups) {
         if (includeForces && (groups&(1<<forceGroup)) != 0)
             kernel->execute(numSites);
         return 0;
@@ -96,7 +96,7 @@ CommonCalcStickyDipoleForceKernel::CommonCalcStickyDipoleForceKernel(string name
         CalcStickyDipoleForceKernel(name, platform), cc(cc), cutoff(0), selfEnergy(0), periodic(false) {
 }
 
-void CommonCalcStickyDipoleForceKernel::initialize(const System& system, const StickyDipoleForce& force) {
+void CommonCalcStickyDipoleForceKernel::initialize(const System& /*system*/, const StickyDipoleForce& force) {
     ContextSelector selector(cc);
     int numSites = force.getNumSites();
     if (numSites == 0)
@@ -215,7 +215,7 @@ void CommonCalcStickyDipoleForceKernel::updateSiteAtoms() {
     siteAtoms.upload(atoms);
 }
 
-double CommonCalcStickyDipoleForceKernel::execute(ContextImpl& context, bool includeForces, bool includeEnergy) {
+double CommonCalcStickyDipoleForceKernel::execute(ContextImpl& /*context*/, bool /*includeForces*/, bool includeEnergy) {
     if (siteParticles.empty())
         return 0;
     ContextSelector selector(cc);

@@ -11,7 +11,7 @@
 namespace RigidLangevinPlugin {
 
 /**
- * What the host code and the device kernels of the common platforms (src/kernels/*.cc) must agree
+ * What the host code and the device kernels of the common platforms (the .cc files in src/kernels) must agree
  * on: the layout of the per-type parameters and the compile-time constants. Kept apart from the
  * kernel class so that a test can compile the device source without a device (TestCudaKernelSources).
  */

@@ -34,7 +34,7 @@ uint32_t chunkSeed(uint32_t seed, int chunk) {
 
 } // namespace
 
-void CpuIntegrateRigidLangevinStepKernel::initialize(const System& system, const RigidLangevinIntegrator& integrator) {
+void CpuIntegrateRigidLangevinStepKernel::initialize(const System& system, const RigidBodyIntegrator& integrator) {
     RigidLangevinStepKernelBase::initialize(system, integrator);
     numBodies = model->getNumBodies();
     int numChunks = std::max(1, std::min(numBodies, (int) MaxChunks));
@@ -53,7 +53,7 @@ void CpuIntegrateRigidLangevinStepKernel::parallelFor(int count, const std::func
         return;
     }
     // Each thread takes whole rows, so the results do not depend on the number of threads.
-    threads.execute([&] (ThreadPool& pool, int thread) {
+    threads.execute([&] (ThreadPool& /*pool*/, int thread) {
         task((int) ((long long) count*thread/numThreads), (int) ((long long) count*(thread+1)/numThreads));
     });
     threads.waitForThreads();

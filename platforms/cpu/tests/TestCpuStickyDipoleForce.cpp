@@ -10,8 +10,9 @@
 
 TEST(CpuStickyDipoleForce, EmulatedProcessorPicksTheBaselineBuild) {
     __builtin_cpu_init();
-    if (emulatingBaselineBuilds())
+    if (emulatingBaselineBuilds()) {
         ASSERT_FALSE(__builtin_cpu_supports("avx2")) << "the emulated processor offers AVX2, so the baseline build of the pair term would not run";
+    }
     std::cout << "The pair term's " << (__builtin_cpu_supports("avx2") ? "AVX2" : "baseline") << " build runs" << std::endl;
 }
 

@@ -30,7 +30,7 @@ public:
     HostCalcStickyDipoleForceKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ReferencePlatform::PlatformData& data) :
             CalcStickyDipoleForceKernel(name, platform), data(data) {
     }
-    void initialize(const OpenMM::System& system, const StickyDipoleForce& force) {
+    void initialize(const OpenMM::System& /*system*/, const StickyDipoleForce& force) {
         int numSites = force.getNumSites();
         particles.resize(numSites);
         references1.resize(numSites);
@@ -54,7 +54,7 @@ public:
         double dielectric = force.getReactionFieldDielectric();
         kappa = (method == StickyDipoleForce::NoCutoff ? 0.0 : (dielectric-1)/((2*dielectric+1)*cutoff*cutoff*cutoff));
     }
-    double execute(OpenMM::ContextImpl& context, bool includeForces, bool includeEnergy) {
+    double execute(OpenMM::ContextImpl& /*context*/, bool includeForces, bool /*includeEnergy*/) {
         using OpenMM::Vec3;
         const std::vector<Vec3>& positions = *data.positions;
         std::vector<Vec3>& forces = *data.forces;

@@ -1,0 +1,61 @@
+#ifndef RIGID_LANGEVIN_PSE_PARAMETERS_H_
+#define RIGID_LANGEVIN_PSE_PARAMETERS_H_
+
+#include "openmm/Vec3.h"
+#include <string>
+
+namespace RigidLangevinPlugin {
+
+/**
+ * The knobs of one positively split Ewald product (PositivelySplitEwald.h), chosen from the
+ * tolerance epsilon, the splitting xi, the box and the blobs (HYDRODYNAMIC-INTERACTIONS.md, "Periodic
+ * boxes at linear cost"): the real-space cutoff, the grid and the Gaussian that spreads onto it.
+ */
+struct PseParameters {
+    double tolerance;
+    double xi;                   // Hasimoto's splitting (1/nm)
+    double cutoffBeyondContact;  // blobs i, j interact in real space within a_i + a_j + this
+    double realCutoff;           // the largest pair cutoff: 2 a_max + cutoffBeyondContact
+    int grid[3];                 // grid points along each box vector
+    int support;                 // P: grid points along each axis that a blob spreads onto
+    double gaussianWidth;        // sigma (nm) of the spreading Gaussian exp(-r^2/2 sigma^2)
+};
+
+/** The most grid points along an axis that a blob's Gaussian covers. */
+const int PseMaxSupport = 32;
+
+/** What the blobs are, as the parameters need it. */
+struct PseBlobSummary {
+    int numBlobs;
+    int numRadii;
+    double maxRadius, meanRadius;
+};
+
+namespace PseParameterChoice {
+
+/** value to four significant digits, for messages. */
+std::string format(double value);
+
+/** The box's widths: distances between opposite faces, 2 pi/|reciprocal_i|. */
+void boxWidths(const OpenMM::Vec3 box[3], double widths[3]);
+
+/**
+ * The parameters for tolerance, splitting xi (0: the one estimated cheapest) in the box. Throws an
+ * OpenMMException naming the setting to change when the box is too small for the real-space cutoff
+ * or the memory would exceed budget (bytes).
+ */
+PseParameters choose(double tolerance, double xi, const OpenMM::Vec3 box[3], const PseBlobSummary& blobs, double budget);
+
+/** The bytes a product with these parameters holds besides the real-space pairs, for blobs. */
+double gridBytes(const PseParameters& parameters, const PseBlobSummary& blobs);
+
+/** The bytes one real-space pair (one direction) takes. */
+double bytesPerPair();
+
+/** Throws the over-budget OpenMMException if the grid and numPairs real-space pairs exceed budget. */
+void checkBudget(const PseParameters& parameters, const PseBlobSummary& blobs, double numPairs, double budget);
+
+} // namespace PseParameterChoice
+} // namespace RigidLangevinPlugin
+
+#endif /*RIGID_LANGEVIN_PSE_PARAMETERS_H_*/

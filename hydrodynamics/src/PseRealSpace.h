@@ -1,0 +1,65 @@
+#ifndef RIGID_LANGEVIN_PSE_REAL_SPACE_H_
+#define RIGID_LANGEVIN_PSE_REAL_SPACE_H_
+
+#include "PseParameters.h"
+#include "PseSmoothPartTable.h"
+#include "internal/KrylovSolvers.h"
+#include "openmm/Vec3.h"
+#include <Eigen/Core>
+#include <functional>
+#include <vector>
+
+namespace RigidLangevinPlugin {
+
+/**
+ * The real-space part of the positively split Ewald mobility: sum over pairs within their cutoff
+ * a_i + a_j + cutoffBeyondContact (nearest image only; the cutoff is below half the box's narrowest
+ * width) of F = RPY - G (PseSmoothPartTable), overlapping blobs included, plus each blob's own F(0).
+ * The pairs are found with a cell list in the box's fractional coordinates and stored, both
+ * directions, as rows (compressed sparse rows) in the cells' order, so that a row's neighbours lie
+ * close together in memory: a product gathers f into that order, makes one pass over the rows,
+ * each on its own thread with no write conflicts, and scatters the result back.
+ */
+class PseRealSpace {
+public:
+    typedef KrylovSolvers::ParallelFor ParallelFor;
+    /**
+     * Find and store the pairs, blob i of radius groupRadii[group[i]]. checkPairs(numPairs) is
+     * called once they are counted and before they are stored (it throws if they would not fit the
+     * memory budget).
+     */
+    void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<int>& group, const std::vector<double>& groupRadii,
+                  const OpenMM::Vec3 box[3], const PseParameters& parameters, const ParallelFor& parallel,
+                  const std::function<void (double numPairs)>& checkPairs);
+    /** out = M_real f (out resized). */
+    void multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out, const ParallelFor& parallel) const;
+    /** The stored pairs (each counted in both directions). */
+    long long getNumPairs() const {
+        return pairs.size();
+    }
+private:
+    struct Pair {
+        int j;                                // in the cells' order
+        double isotropic, dyadicPerR2, d[3];  // F = isotropic I + dyadicPerR2 d d^T, d = r_j - r_i
+    };
+    /** Call visit(j, d, r) for every blob j != i (both in the cells' order) within i's pair cutoff,
+     *  d the nearest image's offset. */
+    template <class Visit>
+    void forEachNeighbour(int i, const Visit& visit) const;
+    void buildCells(const std::vector<OpenMM::Vec3>& positions, double maxRadius);
+    OpenMM::Vec3 box[3], inverse[3];  // inverse[d].r = fractional coordinate d
+    double cutoffBeyondContact;
+    PseSmoothPartTable table;
+    std::vector<int> order;           // order[k] = the blob k-th in the cells' order
+    std::vector<int> sortedGroup;     // by the cells' order
+    std::vector<double> sortedRadius, self;
+    std::vector<OpenMM::Vec3> fractional;
+    int numCells[3];
+    std::vector<int> cellStart;
+    std::vector<long long> rowStart;
+    std::vector<Pair> pairs;
+};
+
+} // namespace RigidLangevinPlugin
+
+#endif /*RIGID_LANGEVIN_PSE_REAL_SPACE_H_*/
