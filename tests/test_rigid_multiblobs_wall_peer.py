@@ -33,7 +33,7 @@ PEER = ROOT/'build-peers'/'rigid-multiblobs-wall'
 
 
 def saved_reference():
-    with open(RESULTS) as f:
+    with open(RESULTS, encoding='utf-8') as f:
         return json.load(f)['reference_16_bodies']
 
 
@@ -96,7 +96,7 @@ def test_the_scene_generator_still_makes_the_timed_scene():
 def test_peer_setup_refuses_a_missing_snapshot_clearly(tmp_path):
     """On CI the peer's source is absent: its setup script says so and stops, creating nothing."""
     result = subprocess.run(['bash', str(ROOT/'scripts'/'peers'/'setup_rigid_multiblobs_wall.sh'), '--snapshot',
-                             str(tmp_path/'absent'), '--dest', str(tmp_path/'peer')], capture_output=True, text=True)
+                             str(tmp_path/'absent'), '--dest', str(tmp_path/'peer')], capture_output=True, encoding='utf-8')
     assert result.returncode == 1
     assert 'is absent' in result.stderr and '--snapshot' in result.stderr
     assert not (tmp_path/'peer').exists()
@@ -114,7 +114,7 @@ def test_saved_peer_numbers_are_what_the_peer_computes(tmp_path):
     out = tmp_path/'peer.json'
     subprocess.run([str(PEER/'venv'/'bin'/'python'), str(ROOT/'benchmarks'/'peers'/'rigid_multiblobs_wall_driver.py'),
                     '--peer', str(PEER), '--scenes', str(scenes), '--out', str(out), '--reference-only'], check=True)
-    fresh, saved = json.loads(out.read_text())['reference_16_bodies'], saved_reference()
+    fresh, saved = json.loads(out.read_text(encoding='utf-8'))['reference_16_bodies'], saved_reference()
     for key in ('blob_velocities_open', 'blob_velocities_wall'):
         assert relative_error(np.array(fresh[key]), np.array(saved[key])) < 1e-13, key
     assert relative_error(np.array(fresh['body_velocities_open']), np.array(saved['body_velocities_open'])) < 1e-10

@@ -142,7 +142,7 @@ def main():
     args = parser.parse_args()
     scenes = [scene(n, args.seed) for n in args.sizes]
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-    with open(args.out, 'w') as f:
+    with open(args.out, 'w', encoding='utf-8') as f:
         json.dump({'description': 'boomerang suspensions (benchmarks/hydrodynamics/boomerang_suspension.py); lengths in um',
                    'wall': 'a no-slip wall at z = 0 where a benchmark puts one', 'scenes': scenes}, f)
     for s in scenes:

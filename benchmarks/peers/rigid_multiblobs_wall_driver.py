@@ -264,7 +264,7 @@ def machine():
     thread and BLAS settings, Python and package versions."""
     import numba
     import scipy
-    model = next((line.split(':', 1)[1].strip() for line in open('/proc/cpuinfo') if line.startswith('model name')), platform.processor())
+    model = next((line.split(':', 1)[1].strip() for line in open('/proc/cpuinfo', encoding='utf-8') if line.startswith('model name')), platform.processor())
     environment = {k: v for k, v in os.environ.items() if k.startswith(('NUMBA_', 'OMP_', 'OPENBLAS_', 'MKL_'))}
     return {'processor': model, 'cores': os.cpu_count(), 'load_averages_before': list(os.getloadavg()), 'niceness': os.nice(0),
             'environment': environment, 'numba_threads': numba.config.NUMBA_NUM_THREADS, 'python': platform.python_version(),
@@ -311,9 +311,9 @@ def main():
     parser.add_argument('--reference-only', action='store_true', help='write the 16 bodies\' reference values only, no times')
     args = parser.parse_args()
     peer_folder, out = os.path.abspath(args.peer), os.path.abspath(args.out)
-    with open(args.scenes) as f:
+    with open(args.scenes, encoding='utf-8') as f:
         scenes = [s for s in json.load(f)['scenes'] if args.sizes is None or s['num_bodies'] in args.sizes]
-    with open(os.path.join(peer_folder, 'SNAPSHOT')) as f:
+    with open(os.path.join(peer_folder, 'SNAPSHOT'), encoding='utf-8') as f:
         commit = f.read().strip()
     peer = load_peer(os.path.join(peer_folder, 'src'))
     import numba
@@ -326,8 +326,8 @@ def main():
             report['sizes'].append(measure_scene(peer, scene, args))
             report['machine']['numba_threading_layer'] = numba.threading_layer()  # known once a parallel function ran
             report['machine']['load_averages_after'] = list(os.getloadavg())
-            report['machine']['uptime_after'] = subprocess.run(['uptime'], capture_output=True, text=True).stdout.strip()
-        with open(out, 'w') as f:
+            report['machine']['uptime_after'] = subprocess.run(['uptime'], capture_output=True, encoding='utf-8').stdout.strip()
+        with open(out, 'w', encoding='utf-8') as f:
             json.dump(report, f, indent=1)
     print(f'(written to {out})')
 

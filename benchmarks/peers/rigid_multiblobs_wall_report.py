@@ -101,10 +101,10 @@ def plot(report, path):
 
 def main():
     path = sys.argv[1]
-    with open(path) as f:
+    with open(path, encoding='utf-8') as f:
         report = json.load(f)
     stem = os.path.splitext(path)[0]
-    with open(stem+'.md', 'w') as f:
+    with open(stem+'.md', 'w', encoding='utf-8') as f:
         f.write('\n'.join(['# RigidMultiblobsWall on the boomerang suspensions', '',
                            'Written by benchmarks/peers/rigid_multiblobs_wall_report.py from '
                            f'{os.path.basename(path)}. Each cell: wall-clock seconds, mean of the repeats ± its '
@@ -115,4 +115,5 @@ def main():
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its tables carry ± and units: an ASCII locale must not stop it
     main()
