@@ -294,6 +294,35 @@ def test_langevin_sphere_above_the_wall_samples_gibbs_boltzmann_heights():
     assert_gibbs_boltzmann(counts, expected)
 
 
+# --- States, checkpoints and the body-state reporter, as for the Langevin integrator ---
+
+def test_checkpoints_and_states_continue_exactly_and_the_reporter_writes(tmp_path):
+    from openmm import app
+    system = sedimented_system(3, 1.0, 0, 4*KT, 4*KT, 0.1)
+    _, integrator, positions = sphere_layer(3, 1.0, 1.5, 5.0, 1.0, 0.01)
+    integrator.setHydrodynamicSolver(integrator.KrylovSolver)
+    topology = app.Topology()
+    chain = topology.addChain()
+    for i in range(3):
+        topology.addAtom('S', app.element.carbon, topology.addResidue('S', chain))
+    simulation = app.Simulation(topology, system, integrator, platform('CPU'))
+    simulation.context.setPositions(positions)
+    simulation.reporters.append(rl.RigidBodyStateReporter(str(tmp_path/'bodies.csv'), 5))
+    simulation.step(10)
+    checkpoint = simulation.context.createCheckpoint()
+    state = simulation.context.getState(getPositions=True, getVelocities=True, getIntegratorParameters=True)
+    simulation.step(20)
+    ahead = simulation.context.getState(getPositions=True).getPositions(asNumpy=True)._value
+    simulation.context.loadCheckpoint(checkpoint)
+    simulation.step(20)
+    assert np.array_equal(simulation.context.getState(getPositions=True).getPositions(asNumpy=True)._value, ahead)
+    simulation.context.setState(state)
+    assert np.array_equal(simulation.context.getState(getPositions=True).getPositions(asNumpy=True)._value,
+                          state.getPositions(asNumpy=True)._value)
+    rows = np.genfromtxt(tmp_path/'bodies.csv', delimiter=',', names=True)
+    assert len(rows) == 3*(30//5+4) and np.all(rows['z_nm'] > 0)
+
+
 # --- What it refuses ---
 
 def test_a_wall_needs_hydrodynamic_interactions():
