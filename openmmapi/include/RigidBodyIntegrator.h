@@ -389,6 +389,10 @@ protected:
     void loadCheckpoint(std::istream& stream);
     void serializeParameters(OpenMM::SerializationNode& node) const;
     void deserializeParameters(const OpenMM::SerializationNode& node);
+    /** The integrator's class name, for messages ("RigidBodyIntegrator" while it is being constructed). */
+    virtual std::string className() const {
+        return "RigidBodyIntegrator";
+    }
     /** Throw if the integrator is not bound to a Context, naming method. */
     void checkBound(const char* method) const;
     mutable OpenMM::Kernel kernel;

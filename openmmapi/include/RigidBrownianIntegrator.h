@@ -71,6 +71,9 @@ public:
      */
     void step(int steps);
 protected:
+    std::string className() const {
+        return "RigidBrownianIntegrator";
+    }
     double computeKineticEnergy();
     bool kineticEnergyRequiresForce() const;
 };

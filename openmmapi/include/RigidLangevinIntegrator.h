@@ -71,6 +71,9 @@ public:
      */
     void step(int steps);
 protected:
+    std::string className() const {
+        return "RigidLangevinIntegrator";
+    }
     double computeKineticEnergy();
     bool kineticEnergyRequiresForce() const;
     std::vector<OpenMM::Vec3> getVelocitiesForTemperature(const OpenMM::System& system, double temperature, int randomSeed) const;

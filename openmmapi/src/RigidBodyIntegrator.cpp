@@ -21,20 +21,20 @@ RigidBodyIntegrator::RigidBodyIntegrator(double temperature, double viscosity, d
     setTemperature(temperature);
     setViscosity(viscosity);
     if (!(stepSize > 0) || !std::isfinite(stepSize))
-        throw OpenMMException("RigidLangevinIntegrator: the step size must be positive and finite, got "+std::to_string(stepSize)+" ps");
+        throw OpenMMException(className()+": the step size must be positive and finite, got "+std::to_string(stepSize)+" ps");
     setStepSize(stepSize);
     setConstraintTolerance(1e-5);
 }
 
 void RigidBodyIntegrator::checkBound(const char* method) const {
     if (context == NULL)
-        throw OpenMMException(string("RigidLangevinIntegrator::")+method+": this Integrator is not bound to a context");
+        throw OpenMMException(className()+"::"+method+": this Integrator is not bound to a context");
 }
 
 void RigidBodyIntegrator::setWall(double height) {
     checkNotBound("setWall");
     if (!std::isfinite(height))
-        throw OpenMMException("RigidLangevinIntegrator::setWall: the wall's height must be finite, got "+std::to_string(height)+" nm");
+        throw OpenMMException(className()+"::setWall: the wall's height must be finite, got "+std::to_string(height)+" nm");
     wall = true;
     wallHeight = height;
 }
@@ -52,13 +52,13 @@ bool RigidBodyIntegrator::getWall(double& height) const {
 
 void RigidBodyIntegrator::setTemperature(double temp) {
     if (!(temp >= 0) || !std::isfinite(temp))
-        throw OpenMMException("RigidLangevinIntegrator: the temperature must be non-negative and finite, got "+std::to_string(temp)+" K");
+        throw OpenMMException(className()+": the temperature must be non-negative and finite, got "+std::to_string(temp)+" K");
     temperature = temp;
 }
 
 void RigidBodyIntegrator::setViscosity(double visc) {
     if (!(visc >= 0) || !std::isfinite(visc))
-        throw OpenMMException("RigidLangevinIntegrator: the viscosity must be non-negative and finite, got "+std::to_string(visc)+" amu/(nm*ps)");
+        throw OpenMMException(className()+": the viscosity must be non-negative and finite, got "+std::to_string(visc)+" amu/(nm*ps)");
     viscosity = visc;
 }
 
@@ -68,12 +68,12 @@ void RigidBodyIntegrator::setRandomNumberSeed(int seed) {
 
 void RigidBodyIntegrator::checkNotBound(const char* method) const {
     if (context != NULL)
-        throw OpenMMException(string("RigidLangevinIntegrator::")+method+": rigid bodies must be defined before the Context is created");
+        throw OpenMMException(className()+"::"+method+": rigid bodies must be defined before the Context is created");
 }
 
 void RigidBodyIntegrator::checkBodyIndex(int index, const char* method) const {
     if (index < 0 || index >= (int) bodies.size())
-        throw OpenMMException(string("RigidLangevinIntegrator::")+method+": there is no rigid body "+std::to_string(index)+
+        throw OpenMMException(className()+"::"+method+": there is no rigid body "+std::to_string(index)+
                 " (the integrator has "+std::to_string(bodies.size())+" bodies)");
 }
 
@@ -81,17 +81,17 @@ int RigidBodyIntegrator::addRigidBody(const vector<int>& particles) {
     checkNotBound("addRigidBody");
     int index = bodies.size();
     if (particles.empty())
-        throw OpenMMException("RigidLangevinIntegrator::addRigidBody: rigid body "+std::to_string(index)+" has no particles");
+        throw OpenMMException(className()+"::addRigidBody: rigid body "+std::to_string(index)+" has no particles");
     for (int i = 0; i < (int) particles.size(); i++) {
         int p = particles[i];
         if (p < 0)
-            throw OpenMMException("RigidLangevinIntegrator::addRigidBody: rigid body "+std::to_string(index)+" contains the negative particle index "+std::to_string(p));
+            throw OpenMMException(className()+"::addRigidBody: rigid body "+std::to_string(index)+" contains the negative particle index "+std::to_string(p));
         for (int j = 0; j < i; j++)
             if (particles[j] == p)
-                throw OpenMMException("RigidLangevinIntegrator::addRigidBody: rigid body "+std::to_string(index)+" lists particle "+std::to_string(p)+" twice");
+                throw OpenMMException(className()+"::addRigidBody: rigid body "+std::to_string(index)+" lists particle "+std::to_string(p)+" twice");
         auto other = particleBody.find(p);
         if (other != particleBody.end())
-            throw OpenMMException("RigidLangevinIntegrator::addRigidBody: particle "+std::to_string(p)+" is already in rigid body "+std::to_string(other->second)+
+            throw OpenMMException(className()+"::addRigidBody: particle "+std::to_string(p)+" is already in rigid body "+std::to_string(other->second)+
                     "; a particle can belong to one body only");
     }
     for (int p : particles)
@@ -108,7 +108,7 @@ const vector<int>& RigidBodyIntegrator::getRigidBodyParticles(int index) const {
 void RigidBodyIntegrator::setBodyResistance(int index, const vector<double>& tensor, const Vec3& origin, const vector<Vec3>& referencePositions) {
     checkNotBound("setBodyResistance");
     checkBodyIndex(index, "setBodyResistance");
-    string what = "RigidLangevinIntegrator::setBodyResistance: rigid body "+std::to_string(index);
+    string what = className()+"::setBodyResistance: rigid body "+std::to_string(index);
     if (tensor.size() != 36)
         throw OpenMMException(what+": a resistance tensor needs 36 values (a 6x6 matrix, row-major), got "+std::to_string(tensor.size()));
     try {
@@ -162,21 +162,21 @@ void RigidBodyIntegrator::setHydrodynamicInteractions(bool enabled) {
 
 void RigidBodyIntegrator::setHydrodynamicSolver(HydrodynamicSolver solver) {
     if (solver != AutomaticSolver && solver != DenseSolver && solver != KrylovSolver)
-        throw OpenMMException("RigidLangevinIntegrator::setHydrodynamicSolver: unknown solver "+std::to_string((int) solver)+
+        throw OpenMMException(className()+"::setHydrodynamicSolver: unknown solver "+std::to_string((int) solver)+
                 "; use AutomaticSolver (0), DenseSolver (1) or KrylovSolver (2)");
     hydrodynamicSolver = solver;
 }
 
 void RigidBodyIntegrator::setHydrodynamicTolerance(double tolerance) {
     if (!(tolerance >= 1e-12 && tolerance <= 0.1))
-        throw OpenMMException("RigidLangevinIntegrator::setHydrodynamicTolerance: the tolerance is "+std::to_string(tolerance)+"; it must lie "
+        throw OpenMMException(className()+"::setHydrodynamicTolerance: the tolerance is "+std::to_string(tolerance)+"; it must lie "
                 "between 1e-12 (what the solves in double precision reach reliably) and 0.1");
     hydrodynamicTolerance = tolerance;
 }
 
 void RigidBodyIntegrator::setKrylovMinBlobs(int blobs) {
     if (blobs < -1)
-        throw OpenMMException("RigidLangevinIntegrator::setKrylovMinBlobs: "+std::to_string(blobs)+" blobs; give a number of blobs, or -1 for the "
+        throw OpenMMException(className()+"::setKrylovMinBlobs: "+std::to_string(blobs)+" blobs; give a number of blobs, or -1 for the "
                 "platform's default");
     krylovMinBlobs = blobs;
 }
@@ -184,7 +184,7 @@ void RigidBodyIntegrator::setKrylovMinBlobs(int blobs) {
 void RigidBodyIntegrator::setBodyBlobs(int index, const vector<Vec3>& blobPositions, const vector<double>& blobRadii, const vector<Vec3>& referencePositions) {
     checkNotBound("setBodyBlobs");
     checkBodyIndex(index, "setBodyBlobs");
-    string what = "RigidLangevinIntegrator::setBodyBlobs: rigid body "+std::to_string(index);
+    string what = className()+"::setBodyBlobs: rigid body "+std::to_string(index);
     if (blobPositions.empty())
         throw OpenMMException(what+": no blobs were given (clearBodyBlobs() makes its particles with a radius its blobs again)");
     if (blobRadii.size() != blobPositions.size())
@@ -229,9 +229,9 @@ void RigidBodyIntegrator::clearBodyBlobs(int index) {
 void RigidBodyIntegrator::setParticleRadius(int particle, double radius) {
     checkNotBound("setParticleRadius");
     if (particle < 0)
-        throw OpenMMException("RigidLangevinIntegrator::setParticleRadius: invalid particle index "+std::to_string(particle));
+        throw OpenMMException(className()+"::setParticleRadius: invalid particle index "+std::to_string(particle));
     if (!(radius > 0) || !std::isfinite(radius))
-        throw OpenMMException("RigidLangevinIntegrator::setParticleRadius: particle "+std::to_string(particle)+" was given radius "+std::to_string(radius)+
+        throw OpenMMException(className()+"::setParticleRadius: particle "+std::to_string(particle)+" was given radius "+std::to_string(radius)+
                 " nm; a hydrodynamic radius must be positive and finite");
     radii[particle] = radius;
 }
@@ -245,7 +245,7 @@ void RigidBodyIntegrator::initialize(ContextImpl& contextRef) {
     if (owner != NULL && &contextRef.getOwner() != owner)
         throw OpenMMException("This Integrator is already bound to a context");
     if (!(getStepSize() > 0) || !std::isfinite(getStepSize()))
-        throw OpenMMException("RigidLangevinIntegrator: the step size must be positive and finite, got "+std::to_string(getStepSize())+" ps");
+        throw OpenMMException(className()+": the step size must be positive and finite, got "+std::to_string(getStepSize())+" ps");
     kernel = contextRef.getPlatform().createKernel(IntegrateRigidLangevinStepKernel::Name(), contextRef);
     kernel.getAs<IntegrateRigidLangevinStepKernel>().initialize(contextRef.getSystem(), *this);
     context = &contextRef;
@@ -267,19 +267,19 @@ void RigidBodyIntegrator::stateChanged(State::DataType changed) {
 
 int RigidBodyIntegrator::getNumDegreesOfFreedom() const {
     if (context == NULL)
-        throw OpenMMException("RigidLangevinIntegrator::getNumDegreesOfFreedom: this Integrator is not bound to a context (the count depends on the bodies' shapes)");
+        throw OpenMMException(className()+"::getNumDegreesOfFreedom: this Integrator is not bound to a context (the count depends on the bodies' shapes)");
     return kernel.getAs<IntegrateRigidLangevinStepKernel>().getModel(*context).getNumDegreesOfFreedom();
 }
 
 int RigidBodyIntegrator::getNumBodyTypes() const {
     if (context == NULL)
-        throw OpenMMException("RigidLangevinIntegrator::getNumBodyTypes: this Integrator is not bound to a context");
+        throw OpenMMException(className()+"::getNumBodyTypes: this Integrator is not bound to a context");
     return kernel.getAs<IntegrateRigidLangevinStepKernel>().getModel(*context).getNumTypes();
 }
 
 vector<int> RigidBodyIntegrator::getKrylovIterations() const {
     if (context == NULL)
-        throw OpenMMException("RigidLangevinIntegrator::getKrylovIterations: this Integrator is not bound to a context");
+        throw OpenMMException(className()+"::getKrylovIterations: this Integrator is not bound to a context");
     int noise, noiseSolve, friction;
     kernel.getAs<IntegrateRigidLangevinStepKernel>().getKrylovIterations(noise, noiseSolve, friction);
     return {noise, noiseSolve, friction};
@@ -288,7 +288,7 @@ vector<int> RigidBodyIntegrator::getKrylovIterations() const {
 void RigidBodyIntegrator::getRigidBodyStates(vector<Vec3>& centers, vector<double>& orientations, vector<Vec3>& velocities,
                                                  vector<Vec3>& angularVelocities) const {
     if (context == NULL)
-        throw OpenMMException("RigidLangevinIntegrator::getRigidBodyStates: this Integrator is not bound to a context");
+        throw OpenMMException(className()+"::getRigidBodyStates: this Integrator is not bound to a context");
     IntegrateRigidLangevinStepKernel& k = kernel.getAs<IntegrateRigidLangevinStepKernel>();
     const RigidBodyModel& model = k.getModel(*context);
     vector<BodyState> states;
@@ -318,9 +318,9 @@ void RigidBodyIntegrator::getRigidBodyStates(vector<Vec3>& centers, vector<doubl
 
 vector<Vec3> RigidBodyIntegrator::getRigidBodyCoordinates(int index) const {
     if (context == NULL)
-        throw OpenMMException("RigidLangevinIntegrator::getRigidBodyCoordinates: this Integrator is not bound to a context");
+        throw OpenMMException(className()+"::getRigidBodyCoordinates: this Integrator is not bound to a context");
     if (index < 0 || index >= getNumRigidBodies())
-        throw OpenMMException("RigidLangevinIntegrator::getRigidBodyCoordinates: there is no rigid body "+std::to_string(index)+" (the integrator has "+
+        throw OpenMMException(className()+"::getRigidBodyCoordinates: there is no rigid body "+std::to_string(index)+" (the integrator has "+
                               std::to_string(getNumRigidBodies())+")");
     const RigidBodyModel& model = kernel.getAs<IntegrateRigidLangevinStepKernel>().getModel(*context);
     return model.getType(model.getBodyType(index)).coords;
@@ -369,7 +369,7 @@ void RigidBodyIntegrator::serializeParameters(SerializationNode& node) const {
 void RigidBodyIntegrator::deserializeParameters(const SerializationNode& node) {
     int version = node.getIntProperty("version");
     if (version != ParametersVersion)
-        throw OpenMMException("RigidLangevinIntegrator: the State's integrator parameters have version "+std::to_string(version)+", this plugin reads version "+
+        throw OpenMMException(className()+": the State's integrator parameters have version "+std::to_string(version)+", this plugin reads version "+
                 std::to_string(ParametersVersion)+" (States of version 1 lack the body types their states refer to). Load it with "
                 "setPositions() and setVelocities() instead of setState(), or save it again with this version");
     const SerializationNode* bodyStates = NULL;
@@ -383,7 +383,7 @@ void RigidBodyIntegrator::deserializeParameters(const SerializationNode& node) {
     if (context == NULL || bodyStates == NULL)
         return;
     if (types == NULL)
-        throw OpenMMException("RigidLangevinIntegrator: the State has body states but no body types");
+        throw OpenMMException(className()+": the State has body states but no body types");
     vector<BodyState> states;
     try {
         for (const SerializationNode& b : bodyStates->getChildren()) {
@@ -398,7 +398,7 @@ void RigidBodyIntegrator::deserializeParameters(const SerializationNode& node) {
         }
     }
     catch (const OpenMMException& e) {
-        throw OpenMMException(string("RigidLangevinIntegrator: the State's body states are incomplete: ")+e.what());
+        throw OpenMMException(className()+string(": the State's body states are incomplete: ")+e.what());
     }
     kernel.getAs<IntegrateRigidLangevinStepKernel>().restoreFromState(*context, node, states);
 }
