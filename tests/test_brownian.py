@@ -353,8 +353,14 @@ def test_a_step_that_crosses_the_wall_says_so():
 
 
 def test_viscosity_must_be_positive():
-    with pytest.raises(mm.OpenMMException, match='viscosity'):
+    with pytest.raises(mm.OpenMMException, match='set a positive viscosity'):
         rl.RigidBrownianIntegrator(300, 0.0, 0.001)
+    system, integrator, positions = sphere_layer(1, 1.0, 2.0, 1.0, 1.0, 0.001)
+    context = mm.Context(system, integrator, platform('Reference'))
+    context.setPositions(positions)
+    integrator.setViscosity(0.0)
+    with pytest.raises(mm.OpenMMException, match='set a positive viscosity'):
+        integrator.step(1)
 
 
 def test_serialization_round_trip():

@@ -8,8 +8,20 @@
 using namespace RigidLangevinPlugin;
 using namespace OpenMM;
 
+namespace {
+
+/** Overdamped bodies need friction: refuse a zero viscosity, saying why. */
+void checkViscosity(double viscosity) {
+    if (!(viscosity > 0))
+        throw OpenMMException("RigidBrownianIntegrator: the viscosity is "+std::to_string(viscosity)+", but overdamped bodies move at their mobility, "
+                "the inverse of their friction: set a positive viscosity (or use RigidLangevinIntegrator for dynamics without a solvent)");
+}
+
+}
+
 RigidBrownianIntegrator::RigidBrownianIntegrator(double temperature, double viscosity, double stepSize) :
         RigidBodyIntegrator(temperature, viscosity, stepSize) {
+    checkViscosity(viscosity);
 }
 
 void RigidBrownianIntegrator::step(int steps) {
@@ -17,9 +29,7 @@ void RigidBrownianIntegrator::step(int steps) {
         throw OpenMMException("This Integrator is not bound to a context!");
     if (!(getStepSize() > 0) || !std::isfinite(getStepSize()))
         throw OpenMMException("RigidBrownianIntegrator: the step size must be positive and finite, got "+std::to_string(getStepSize())+" ps");
-    if (!(getViscosity() > 0))
-        throw OpenMMException("RigidBrownianIntegrator: the viscosity is zero, but overdamped bodies move at their mobility, the inverse of their "
-                "friction: set a positive viscosity (or use RigidLangevinIntegrator for dynamics without a solvent)");
+    checkViscosity(getViscosity());  // setViscosity() allows zero for RigidLangevinIntegrator
     IntegrateRigidLangevinStepKernel& k = kernel.getAs<IntegrateRigidLangevinStepKernel>();
     for (int i = 0; i < steps; i++) {
         context->updateContextState();
