@@ -59,9 +59,25 @@ std::string KrylovSolvers::explain(const Result& result) {
     return "ended in an unknown way";
 }
 
-Result KrylovSolvers::conjugateGradient(const Operator& a, const Operator& preconditioner, const VectorXd& b, VectorXd& x, double tolerance, int maxIterations) {
+void KrylovSolvers::scaledStart(const Operator& a, const VectorXd& guess, const VectorXd& b, VectorXd& start, VectorXd& startProduct) {
+    start = VectorXd::Zero(b.size());
+    startProduct = VectorXd::Zero(b.size());
+    if (guess.size() != b.size() || guess.size() == 0)
+        return;
+    VectorXd product;
+    a(guess, product);
+    const double curvature = guess.dot(product), alpha = guess.dot(b)/curvature;
+    if (!(curvature > 0) || !std::isfinite(alpha))
+        return;
+    start = alpha*guess;
+    startProduct = alpha*product;
+}
+
+Result KrylovSolvers::conjugateGradient(const Operator& a, const Operator& preconditioner, const VectorXd& b, VectorXd& x, double tolerance, int maxIterations,
+                                        const VectorXd* startProduct) {
     Result report = {Converged, 0, tolerance, maxIterations, 0, 0, 0};
     const int n = b.size();
+    const bool productGiven = (startProduct != nullptr && startProduct->size() == n && x.size() == n);
     if (x.size() != n)
         x = VectorXd::Zero(n);
     const double bNorm = b.norm();
@@ -74,7 +90,10 @@ Result KrylovSolvers::conjugateGradient(const Operator& a, const Operator& preco
         return report;
     }
     VectorXd r(n), z(n), p(n), ap(n);
-    a(x, ap);
+    if (productGiven)
+        ap = *startProduct;
+    else
+        a(x, ap);
     r = b-ap;
     report.residual = r.norm()/bNorm;
     if (!std::isfinite(report.residual)) {
