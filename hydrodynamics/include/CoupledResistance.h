@@ -50,7 +50,9 @@ namespace RigidLangevinPlugin {
  *
  * Dense and exact: M is Cholesky-factorised and solved for the 6N columns of K (cost (3B)^3/3 for B
  * blobs, memory 72 B^2 bytes). This is the definition of correct that faster methods are tested
- * against; it holds some thousands of blobs.
+ * against; it holds some thousands of blobs. From 200 blobs M is formed, factorised (blocked, the
+ * trailing updates shared) and solved on OPENMM_CPU_THREADS threads (default: all cores), with the
+ * same result on any number of them.
  */
 class OPENMM_EXPORT_HYDRODYNAMICS CoupledResistance {
 public:
