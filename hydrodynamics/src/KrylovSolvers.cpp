@@ -77,8 +77,10 @@ Result KrylovSolvers::conjugateGradient(const Operator& a, const Operator& preco
                                         const VectorXd* startProduct) {
     Result report = {Converged, 0, tolerance, maxIterations, 0, 0, 0};
     const int n = b.size();
-    const bool productGiven = (startProduct != nullptr && startProduct->size() == n && x.size() == n);
-    if (x.size() != n)
+    // From zero the start's product is zero: no product is spent on it.
+    const bool fromZero = (x.size() != n);
+    const bool productGiven = (startProduct != nullptr && startProduct->size() == n && !fromZero);
+    if (fromZero)
         x = VectorXd::Zero(n);
     const double bNorm = b.norm();
     if (!std::isfinite(bNorm)) {
@@ -92,6 +94,8 @@ Result KrylovSolvers::conjugateGradient(const Operator& a, const Operator& preco
     VectorXd r(n), z(n), p(n), ap(n);
     if (productGiven)
         ap = *startProduct;
+    else if (fromZero)
+        ap.setZero();
     else
         a(x, ap);
     r = b-ap;

@@ -72,7 +72,7 @@ OPENMM_EXPORT_HYDRODYNAMICS std::string explain(const Result& result);
 
 /**
  * Solve A x = b by conjugate gradients preconditioned by P (an approximation of A^-1, symmetric
- * positive definite), starting from x as given (resized to zero if its size differs), until
+ * positive definite), starting from x as given (from zero, without a product, if its size differs), until
  * |b - A x| <= tolerance |b|. Every step checks p^T A p > 0 and r^T P r > 0, which hold for
  * every direction if A and P are symmetric positive definite, and that both are finite.
  * startProduct, if given, is A x for the x given (as scaledStart() returns it): one product fewer.
