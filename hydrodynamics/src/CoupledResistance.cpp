@@ -5,7 +5,7 @@
 #include "internal/ResistanceMath.h"
 #include "internal/RotnePragerBlake.h"
 #include "internal/RotnePragerYamakawa.h"
-#include "beadkernel/ParallelCholesky.h"
+#include "beadkernel/ParallelFor.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/ThreadPool.h"
 #include <Eigen/Cholesky>
@@ -202,7 +202,7 @@ Eigen::MatrixXd CoupledResistanceMath::resistance(const std::string& caller, con
         k.block<3, 3>(3*i, 6*b+3) = -skew(toEigen(positions[i]-origins[b]));
         std::fill(start.begin()+6*b, start.begin()+6*b+6, 3*i);
     }
-    if (!parallelCholeskyInPlace(mobility, pool.get()))
+    if (!BeadHydrodynamics::choleskyInPlace(mobility.rows(), mobility.data(), pool ? pool->getNumThreads() : 1))
         throw OpenMMException(caller+": the blobs' mobility matrix could not be factorised (look for nearly coincident blobs)");
     return squareOfSolved(mobility, k, start, pool.get());
 }
