@@ -130,23 +130,12 @@ int main(int argc, char** argv) {
     vector<int> sizes = {100, 300, 1000, 1350, 3000, 10000};
     int oldMax = 10000, storedMax = HostBlobMobility::MaxStoredBlobs, pairs = 5;
     double blockSeconds = 0.3;
-    for (int i = 2; i+1 < argc; i += 2) {
-        const string option = argv[i];
-        if (option == "--sizes")
-            sizes = parseList<int>(argv[i+1]);
-        else if (option == "--old-max-blobs")
-            oldMax = std::atoi(argv[i+1]);
-        else if (option == "--stored-max-blobs")
-            storedMax = std::atoi(argv[i+1]);
-        else if (option == "--pairs")
-            pairs = std::max(2, std::atoi(argv[i+1]));
-        else if (option == "--block-seconds")
-            blockSeconds = std::atof(argv[i+1]);
-        else {
-            std::cerr << "unknown option " << option << std::endl;
-            return 2;
-        }
-    }
+    if (!readOptions(argc, argv, {{"--sizes", [&] (const char* v) { sizes = parseList<int>(v); }},
+                                  {"--old-max-blobs", [&] (const char* v) { oldMax = std::atoi(v); }},
+                                  {"--stored-max-blobs", [&] (const char* v) { storedMax = std::atoi(v); }},
+                                  {"--pairs", [&] (const char* v) { pairs = std::max(2, std::atoi(v)); }},
+                                  {"--block-seconds", [&] (const char* v) { blockSeconds = std::atof(v); }}}))
+        return 2;
     OpenMM::ThreadPool pool(numThreads());
     printf("Open-space RPY product M f, blobs of radius %g nm at volume fraction %g in a cube; %d thread(s); %d alternating pairs of %g s blocks\n",
            Radius, VolumeFraction, numThreads(), pairs, blockSeconds);

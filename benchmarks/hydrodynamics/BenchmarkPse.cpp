@@ -190,23 +190,12 @@ int main(int argc, char** argv) {
     vector<double> tolerances = {1e-3, 1e-6};
     int peerMax = 2000, pairs = 5;
     double blockSeconds = 0.3;
-    for (int i = 2; i+1 < argc; i += 2) {
-        const string option = argv[i];
-        if (option == "--sizes")
-            sizes = parseList<int>(argv[i+1]);
-        else if (option == "--tolerances")
-            tolerances = parseList<double>(argv[i+1]);
-        else if (option == "--peer-max-blobs")
-            peerMax = std::atoi(argv[i+1]);
-        else if (option == "--pairs")
-            pairs = std::max(2, std::atoi(argv[i+1]));
-        else if (option == "--block-seconds")
-            blockSeconds = std::atof(argv[i+1]);
-        else {
-            std::cerr << "unknown option " << option << std::endl;
-            return 2;
-        }
-    }
+    if (!readOptions(argc, argv, {{"--sizes", [&] (const char* v) { sizes = parseList<int>(v); }},
+                                  {"--tolerances", [&] (const char* v) { tolerances = parseList<double>(v); }},
+                                  {"--peer-max-blobs", [&] (const char* v) { peerMax = std::atoi(v); }},
+                                  {"--pairs", [&] (const char* v) { pairs = std::max(2, std::atoi(v)); }},
+                                  {"--block-seconds", [&] (const char* v) { blockSeconds = std::atof(v); }}}))
+        return 2;
     printf("Positively split Ewald mobility, blobs of radius %g nm at volume fraction %g in a cube; %d thread(s); %d alternating pairs of %g s blocks\n",
            Radius, VolumeFraction, numThreads(), pairs, blockSeconds);
     printf("%7s %7s %6s %4s %3s %10s %8s %14s %8s %14s %8s %9s %9s %9s %16s %16s %9s\n", "blobs", "epsilon", "xi", "grid", "P", "pairs", "setup s",

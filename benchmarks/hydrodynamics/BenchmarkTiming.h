@@ -13,6 +13,8 @@
 #include <cstdlib>
 #include <ctime>
 #include <functional>
+#include <iostream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <sys/resource.h>
@@ -135,6 +137,22 @@ vector<T> parseList(const string& text) {
     while (std::getline(stream, item, ','))
         values.push_back((T) std::stod(item));
     return values;
+}
+
+/**
+ * Read "--name value" pairs from argv[2] on, handing each value to its option's reader; an option
+ * not among them is reported on standard error and returns false.
+ */
+inline bool readOptions(int argc, char** argv, const std::map<string, std::function<void (const char* value)>>& readers) {
+    for (int i = 2; i+1 < argc; i += 2) {
+        auto reader = readers.find(argv[i]);
+        if (reader == readers.end()) {
+            std::cerr << "unknown option " << argv[i] << std::endl;
+            return false;
+        }
+        reader->second(argv[i+1]);
+    }
+    return true;
 }
 
 } // namespace BenchmarkTiming

@@ -72,21 +72,11 @@ int main(int argc, char** argv) {
     }
     int numBodies = 64, steps = 300;
     double tolerance = 1e-10, kT = 2.494;
-    for (int i = 2; i+1 < argc; i += 2) {
-        const string option = argv[i];
-        if (option == "--bodies")
-            numBodies = std::atoi(argv[i+1]);
-        else if (option == "--steps")
-            steps = std::atoi(argv[i+1]);
-        else if (option == "--tolerance")
-            tolerance = std::atof(argv[i+1]);
-        else if (option == "--kT")
-            kT = std::atof(argv[i+1]);
-        else {
-            std::cerr << "unknown option " << option << std::endl;
-            return 2;
-        }
-    }
+    if (!readOptions(argc, argv, {{"--bodies", [&] (const char* v) { numBodies = std::atoi(v); }},
+                                  {"--steps", [&] (const char* v) { steps = std::atoi(v); }},
+                                  {"--tolerance", [&] (const char* v) { tolerance = std::atof(v); }},
+                                  {"--kT", [&] (const char* v) { kT = std::atof(v); }}}))
+        return 2;
     std::mt19937 random(7);
     std::normal_distribution<double> normal;
     OpenMM::System system;
