@@ -15,18 +15,19 @@ import textwrap
 import xml.etree.ElementTree as ElementTree
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-HEADERS = [ROOT/'openmmapi/include/RigidLangevinIntegrator.h', ROOT/'openmmapi/include/StickyDipoleForce.h',
+HEADERS = [ROOT/'openmmapi/include/RigidBodyIntegrator.h', ROOT/'openmmapi/include/RigidLangevinIntegrator.h', ROOT/'openmmapi/include/RigidBrownianIntegrator.h', ROOT/'openmmapi/include/StickyDipoleForce.h',
            ROOT/'hydrodynamics/include/ResistanceTensor.h', ROOT/'hydrodynamics/include/CoupledResistance.h']
 NAMESPACE = 'RigidLangevinPlugin'
 DOCSTRINGS = ROOT/'python/docstrings.i'
 # What the Python module adds to a class's C++ description.
 PYTHON_NOTES = {
-    'RigidLangevinIntegrator': 'In Python, temperatures, viscosities, times and lengths may be openmm.unit Quantities (a viscosity '
-                               'in any unit, rigidlangevin.poise and centipoise among them); values come back as Quantities. '
-                               'setBodyResistance() takes the tensor as a 6x6 array; getBodyResistance() returns (6x6 array, origin, '
-                               'reference positions) or None; setBodyBlobs() takes centres and radii as arrays or Quantities, getBodyBlobs() returns '
-                               '(centres, radii, reference positions) as Quantities in nm, or None. cast() turns an openmm.Integrator that is one (from XmlSerializer) '
-                               'into a RigidLangevinIntegrator.',
+    'RigidBodyIntegrator': 'In Python, temperatures, viscosities, times and lengths may be openmm.unit Quantities (a viscosity '
+                           'in any unit, rigidlangevin.poise and centipoise among them); values come back as Quantities. '
+                           'setBodyResistance() takes the tensor as a 6x6 array; getBodyResistance() returns (6x6 array, origin, '
+                           'reference positions) or None; setBodyBlobs() takes centres and radii as arrays or Quantities, getBodyBlobs() returns '
+                           '(centres, radii, reference positions) as Quantities in nm, or None; getWall() returns the height as a Quantity, or None.',
+    'RigidLangevinIntegrator': 'In Python, cast() turns an openmm.Integrator that is one (from XmlSerializer) into a RigidLangevinIntegrator.',
+    'RigidBrownianIntegrator': 'In Python, cast() turns an openmm.Integrator that is one (from XmlSerializer) into a RigidBrownianIntegrator.',
     'StickyDipoleForce': 'In Python, a site\'s parameters are keyword arguments (Quantities or MD units: nm, kJ/mol, e*nm) starting '
                          'from a named model\'s: addSite(particle, reference1, reference2, model=\'SSD/RF\', dipole=...). '
                          'System.getForce() returns a plain openmm.Force: StickyDipoleForce.cast(force) gives the StickyDipoleForce.',

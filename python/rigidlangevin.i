@@ -42,6 +42,7 @@ using OpenMM::isNumpyAvailable;
 
 %{
 #include "RigidLangevinIntegrator.h"
+#include "RigidBrownianIntegrator.h"
 #include "ResistanceTensor.h"
 #include "CoupledResistance.h"
 #include "StickyDipoleForce.h"
@@ -84,6 +85,7 @@ namespace std {
 %include "docstrings.i"
 /* What the Python module adds. */
 %feature("docstring") RigidLangevinPlugin::RigidLangevinIntegrator::isinstance "Whether an openmm.Integrator is a RigidLangevinIntegrator (then cast() gives it as one).";
+%feature("docstring") RigidLangevinPlugin::RigidBrownianIntegrator::isinstance "Whether an openmm.Integrator is a RigidBrownianIntegrator (then cast() gives it as one).";
 %feature("docstring") RigidLangevinPlugin::StickyDipoleForce::isinstance "Whether an openmm.Force is a StickyDipoleForce (then cast() gives it as one).";
 
 namespace RigidLangevinPlugin {
@@ -93,34 +95,37 @@ class ResistanceTensor;
 %pythonprepend RigidLangevinIntegrator::RigidLangevinIntegrator %{
     viscosity = _units.viscosity_value(viscosity)
 %}
-%pythonappend RigidLangevinIntegrator::getTemperature %{
-    val = unit.Quantity(val, unit.kelvin)
-%}
-%pythonappend RigidLangevinIntegrator::getViscosity %{
-    val = unit.Quantity(val, _units.md_viscosity)
-%}
-%pythonprepend RigidLangevinIntegrator::setViscosity %{
+%pythonprepend RigidBrownianIntegrator::RigidBrownianIntegrator %{
     viscosity = _units.viscosity_value(viscosity)
 %}
-%pythonprepend RigidLangevinIntegrator::addRigidBody %{
+%pythonappend RigidBodyIntegrator::getTemperature %{
+    val = unit.Quantity(val, unit.kelvin)
+%}
+%pythonappend RigidBodyIntegrator::getViscosity %{
+    val = unit.Quantity(val, _units.md_viscosity)
+%}
+%pythonprepend RigidBodyIntegrator::setViscosity %{
+    viscosity = _units.viscosity_value(viscosity)
+%}
+%pythonprepend RigidBodyIntegrator::addRigidBody %{
     particles = [int(p) for p in particles]
 %}
-%pythonappend RigidLangevinIntegrator::getRigidBodyParticles %{
+%pythonappend RigidBodyIntegrator::getRigidBodyParticles %{
     val = tuple(val)
 %}
-%pythonappend RigidLangevinIntegrator::getKrylovIterations %{
+%pythonappend RigidBodyIntegrator::getKrylovIterations %{
     val = tuple(val)
 %}
-%pythonprepend RigidLangevinIntegrator::setBodyResistance %{
+%pythonprepend RigidBodyIntegrator::setBodyResistance %{
     tensor = _units.tensor_values(tensor)
 %}
-%pythonprepend RigidLangevinIntegrator::setBodyBlobs %{
+%pythonprepend RigidBodyIntegrator::setBodyBlobs %{
     blobRadii = _units.lengths_in_nm(blobRadii)
 %}
-%pythonappend RigidLangevinIntegrator::getParticleRadius %{
+%pythonappend RigidBodyIntegrator::getParticleRadius %{
     val = None if val < 0 else unit.Quantity(val, unit.nanometer)
 %}
-%pythonappend RigidLangevinIntegrator::getRigidBodyCoordinates %{
+%pythonappend RigidBodyIntegrator::getRigidBodyCoordinates %{
     val = _units.vectors_in_nm(val)
 %}
 %pythonappend RigidLangevinIntegrator::computeSystemTemperature %{
@@ -133,28 +138,26 @@ class ResistanceTensor;
     val = unit.Quantity(val, unit.kelvin)
 %}
 
+%pythonprepend RigidBodyIntegrator::setWall %{
+    height = _units.length_in_nm(height)
+%}
 %newobject RigidLangevinIntegrator::_clone;
 %newobject RigidLangevinIntegrator::_deserialize;
+%newobject RigidBrownianIntegrator::_clone;
+%newobject RigidBrownianIntegrator::_deserialize;
 
-class RigidLangevinIntegrator : public OpenMM::Integrator {
+/* What RigidLangevinIntegrator and RigidBrownianIntegrator share: bodies, hydrodynamics, read-outs. */
+class RigidBodyIntegrator : public OpenMM::Integrator {
 public:
-    enum Scheme {
-        ExactFlow = 0,
-        BAOAB = 1,
-        Original = 2
-    };
     enum HydrodynamicSolver {
         AutomaticSolver = 0,
         DenseSolver = 1,
         KrylovSolver = 2
     };
-    RigidLangevinIntegrator(double temperature, double viscosity, double stepSize);
     double getTemperature() const;
     void setTemperature(double temp);
     double getViscosity() const;
     void setViscosity(double viscosity);
-    Scheme getScheme() const;
-    void setScheme(Scheme scheme);
     int getRandomNumberSeed() const;
     void setRandomNumberSeed(int seed);
     int addRigidBody(const std::vector<int>& particles);
@@ -180,11 +183,11 @@ public:
     int getNumDegreesOfFreedom() const;
     std::vector<Vec3> getRigidBodyCoordinates(int index) const;
     int getNumBodyTypes() const;
-    double computeSystemTemperature();
-    double computeTranslationalTemperature();
-    double computeRotationalTemperature();
-    void step(int steps);
-
+    void setWall(double height);
+    void clearWall();
+protected:
+    RigidBodyIntegrator(double temperature, double viscosity, double stepSize);
+public:
     %extend {
         /* The explicit tensor of a body as (36 values, (x, y, z) origin, [(x, y, z)] reference positions), or None. */
         PyObject* _getBodyResistance(int index) const {
@@ -239,21 +242,12 @@ public:
             }
             return Py_BuildValue("(NNNN)", lists[0], lists[1], lists[2], lists[3]);
         }
-        RigidLangevinPlugin::RigidLangevinIntegrator* _clone() const {
-            return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(OpenMM::XmlSerializer::clone<OpenMM::Integrator>(*self));
-        }
-        static RigidLangevinPlugin::RigidLangevinIntegrator* _deserialize(const std::string& xml) {
-            std::stringstream stream(xml);
-            return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(OpenMM::XmlSerializer::deserialize<OpenMM::Integrator>(stream));
-        }
-        static RigidLangevinPlugin::RigidLangevinIntegrator& _cast(OpenMM::Integrator& integrator) {
-            RigidLangevinPlugin::RigidLangevinIntegrator* result = dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(&integrator);
-            if (result == NULL)
-                throw OpenMM::OpenMMException("RigidLangevinIntegrator.cast: this Integrator is not a RigidLangevinIntegrator");
-            return *result;
-        }
-        static bool isinstance(OpenMM::Integrator& integrator) {
-            return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(&integrator) != NULL;
+        /* The wall's height (nm), or None without a wall. */
+        PyObject* _getWall() const {
+            double height;
+            if (!self->getWall(height))
+                Py_RETURN_NONE;
+            return PyFloat_FromDouble(height);
         }
         %pythoncode %{
             def getRigidBodyStates(self):
@@ -277,6 +271,48 @@ public:
                 in nm), or None if its particles with a radius are its blobs."""
                 return _units.blobs_result(self._getBodyBlobs(index))
 
+            def getWall(self):
+                """The height of the no-slip wall (setWall()) as a Quantity in nm, or None without one."""
+                height = self._getWall()
+                return None if height is None else unit.Quantity(height, unit.nanometer)
+
+        %}
+    }
+};
+
+class RigidLangevinIntegrator : public RigidBodyIntegrator {
+public:
+    enum Scheme {
+        ExactFlow = 0,
+        BAOAB = 1,
+        Original = 2
+    };
+    RigidLangevinIntegrator(double temperature, double viscosity, double stepSize);
+    Scheme getScheme() const;
+    void setScheme(Scheme scheme);
+    double computeSystemTemperature();
+    double computeTranslationalTemperature();
+    double computeRotationalTemperature();
+    void step(int steps);
+
+    %extend {
+        RigidLangevinPlugin::RigidLangevinIntegrator* _clone() const {
+            return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(OpenMM::XmlSerializer::clone<OpenMM::Integrator>(*self));
+        }
+        static RigidLangevinPlugin::RigidLangevinIntegrator* _deserialize(const std::string& xml) {
+            std::stringstream stream(xml);
+            return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(OpenMM::XmlSerializer::deserialize<OpenMM::Integrator>(stream));
+        }
+        static RigidLangevinPlugin::RigidLangevinIntegrator& _cast(OpenMM::Integrator& integrator) {
+            RigidLangevinPlugin::RigidLangevinIntegrator* result = dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(&integrator);
+            if (result == NULL)
+                throw OpenMM::OpenMMException("RigidLangevinIntegrator.cast: this Integrator is not a RigidLangevinIntegrator");
+            return *result;
+        }
+        static bool isinstance(OpenMM::Integrator& integrator) {
+            return dynamic_cast<RigidLangevinPlugin::RigidLangevinIntegrator*>(&integrator) != NULL;
+        }
+        %pythoncode %{
             @staticmethod
             def cast(integrator):
                 """An openmm.Integrator that is a RigidLangevinIntegrator (from XmlSerializer.deserialize(), say)
@@ -298,6 +334,54 @@ public:
 
             def __setstate__(self, state):
                 self.this = RigidLangevinIntegrator._deserialize(state).this
+        %}
+    }
+};
+
+class RigidBrownianIntegrator : public RigidBodyIntegrator {
+public:
+    RigidBrownianIntegrator(double temperature, double viscosity, double stepSize);
+    void step(int steps);
+
+    %extend {
+        RigidLangevinPlugin::RigidBrownianIntegrator* _clone() const {
+            return dynamic_cast<RigidLangevinPlugin::RigidBrownianIntegrator*>(OpenMM::XmlSerializer::clone<OpenMM::Integrator>(*self));
+        }
+        static RigidLangevinPlugin::RigidBrownianIntegrator* _deserialize(const std::string& xml) {
+            std::stringstream stream(xml);
+            return dynamic_cast<RigidLangevinPlugin::RigidBrownianIntegrator*>(OpenMM::XmlSerializer::deserialize<OpenMM::Integrator>(stream));
+        }
+        static RigidLangevinPlugin::RigidBrownianIntegrator& _cast(OpenMM::Integrator& integrator) {
+            RigidLangevinPlugin::RigidBrownianIntegrator* result = dynamic_cast<RigidLangevinPlugin::RigidBrownianIntegrator*>(&integrator);
+            if (result == NULL)
+                throw OpenMM::OpenMMException("RigidBrownianIntegrator.cast: this Integrator is not a RigidBrownianIntegrator");
+            return *result;
+        }
+        static bool isinstance(OpenMM::Integrator& integrator) {
+            return dynamic_cast<RigidLangevinPlugin::RigidBrownianIntegrator*>(&integrator) != NULL;
+        }
+        %pythoncode %{
+            @staticmethod
+            def cast(integrator):
+                """An openmm.Integrator that is a RigidBrownianIntegrator (from XmlSerializer.deserialize(), say)
+                as one. The result keeps the original object alive."""
+                if isinstance(integrator, RigidBrownianIntegrator):
+                    return integrator
+                result = RigidBrownianIntegrator._cast(integrator)
+                result._source = integrator
+                return result
+
+            def __copy__(self):
+                return self._clone()
+
+            def __deepcopy__(self, memo):
+                return self._clone()
+
+            def __getstate__(self):
+                return openmm.XmlSerializer.serialize(self)
+
+            def __setstate__(self, state):
+                self.this = RigidBrownianIntegrator._deserialize(state).this
         %}
     }
 };

@@ -169,6 +169,7 @@ TEST_P(StateAndSystem, SerializationRoundTrip) {
     std::vector<double> blobRadii = {0.11, 0.13};
     std::vector<Vec3> blobReference = {Vec3(0.0, 0.1, 0.2), Vec3(-0.3, 0.2, 0.1), Vec3(0.2, -0.1, 0.0)};
     integrator.setBodyBlobs(0, blobPositions, blobRadii, blobReference);
+    integrator.setWall(-2.5);
     std::stringstream buffer;
     XmlSerializer::serialize<Integrator>(&integrator, "Integrator", buffer);
     const std::string xml = buffer.str();
@@ -201,12 +202,15 @@ TEST_P(StateAndSystem, SerializationRoundTrip) {
     EXPECT_EQ(blobRadii, radii);
     EXPECT_EQ(blobReference, reference0);
     EXPECT_FALSE(copy->getBodyBlobs(1, p, radii, reference0));
+    double wallHeight;
+    ASSERT_TRUE(copy->getWall(wallHeight));
+    EXPECT_EQ(-2.5, wallHeight);
     delete copy;
 
-    // Version 2 (before hydrodynamic interactions) reads as without them; an unknown version is refused.
+    // Version 2 (before hydrodynamic interactions and the wall) reads as without them; an unknown version is refused.
     auto withVersion = [&](const std::string& version) {
         std::string text = xml;
-        size_t at = text.find("version=\"4\"");
+        size_t at = text.find("version=\"5\"");
         EXPECT_NE(std::string::npos, at);
         text.replace(at, 11, "version=\""+version+"\"");
         at = text.find(" hydrodynamicInteractions=\"1\"");
@@ -216,8 +220,9 @@ TEST_P(StateAndSystem, SerializationRoundTrip) {
     std::stringstream version2(withVersion("2"));
     std::unique_ptr<Integrator> old(XmlSerializer::deserialize<Integrator>(version2));
     EXPECT_FALSE(dynamic_cast<RigidLangevinIntegrator&>(*old).getHydrodynamicInteractions());
-    std::stringstream version5(withVersion("5"));
-    EXPECT_THROW(XmlSerializer::deserialize<Integrator>(version5), OpenMMException);
+    EXPECT_FALSE(dynamic_cast<RigidLangevinIntegrator&>(*old).getWall(wallHeight));
+    std::stringstream version6(withVersion("6"));
+    EXPECT_THROW(XmlSerializer::deserialize<Integrator>(version6), OpenMMException);
 }
 
 TEST_P(StateAndSystem, StateRestoresBodiesExactly) {

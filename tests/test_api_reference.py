@@ -22,10 +22,11 @@ def test_every_public_method_has_its_header_documentation():
     # of them, and every public function of rigidlangevin.hydrodynamics, has documentation.
     text = lambda value: ' '.join((value.__doc__ or '').split())
     assert 'A particle may belong to at most one body' in text(rl.RigidLangevinIntegrator.addRigidBody)
-    assert 'amu/(nm*ps)' in text(rl.RigidLangevinIntegrator) and 'removeCMMotion=False' in text(rl.RigidLangevinIntegrator)
+    assert 'amu/(nm*ps)' in text(rl.RigidBodyIntegrator) and 'removeCMMotion=False' in text(rl.RigidBodyIntegrator)
+    assert all('RigidBodyIntegrator' in text(c) for c in (rl.RigidLangevinIntegrator, rl.RigidBrownianIntegrator))
     assert 'nm^3 (Xrr)' in text(rl.ResistanceTensor)
     assert '(nm)' in text(hydro.sphere) and 'Quantities' in text(hydro.sphere)
-    for cls in (rl.RigidLangevinIntegrator, rl.StickyDipoleForce, rl.ResistanceTensor):
+    for cls in (rl.RigidBodyIntegrator, rl.RigidLangevinIntegrator, rl.RigidBrownianIntegrator, rl.StickyDipoleForce, rl.ResistanceTensor):
         for name, member in vars(cls).items():
             if name.startswith('_') or not callable(member) or name in ('thisown',):
                 continue

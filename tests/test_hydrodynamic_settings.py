@@ -86,7 +86,7 @@ def test_version_3_xml_reads_with_the_default_settings():
     integrator = rl.RigidLangevinIntegrator(300, 500.0, 0.002)
     integrator.setHydrodynamicSolver(integrator.DenseSolver)
     xml = mm.XmlSerializer.serialize(integrator)
-    assert 'version="4"' in xml
-    xml = re.sub(r' (hydrodynamicSolver|hydrodynamicTolerance|krylovMinBlobs)="[^"]*"', '', xml.replace('version="4"', 'version="3"'))
+    assert 'version="5"' in xml
+    xml = re.sub(r' (hydrodynamicSolver|hydrodynamicTolerance|krylovMinBlobs|wall|wallHeight)="[^"]*"', '', xml.replace('version="5"', 'version="3"'))
     copy = rl.RigidLangevinIntegrator.cast(mm.XmlSerializer.deserialize(xml))
     assert (copy.getHydrodynamicSolver(), copy.getHydrodynamicTolerance(), copy.getKrylovMinBlobs()) == (integrator.AutomaticSolver, 1e-10, -1)

@@ -15,11 +15,9 @@ namespace {
 /** How the integrator's messages about the coupled bodies begin. */
 const std::string Caller = "RigidLangevinIntegrator: hydrodynamic interactions";
 
-/**
- * The iterations a Krylov solve took if it converged; otherwise throw, naming the solve, why it
- * failed (KrylovSolvers::explain) and what to do.
- */
-int checkSolve(const std::string& solve, const KrylovSolvers::Result& result, int numBodies, int numBlobs) {
+} // namespace
+
+int RigidLangevinPlugin::checkHydrodynamicSolve(const std::string& solve, const KrylovSolvers::Result& result, int numBodies, int numBlobs) {
     if (result.outcome == KrylovSolvers::Converged)
         return result.iterations;
     std::string advice;
@@ -38,9 +36,8 @@ int checkSolve(const std::string& solve, const KrylovSolvers::Result& result, in
                           " blobs. "+advice);
 }
 
-} // namespace
 
-HydrodynamicInteractions::HydrodynamicInteractions(const RigidBodyModel& model) : model(model) {
+HydrodynamicInteractions::HydrodynamicInteractions(const RigidBodyModel& model, std::optional<double> wallZ) : model(model), wallZ(wallZ) {
     for (int t = 0; t < model.getNumTypes(); t++) {
         const BodyType& type = model.getType(t);
         TypeBlobs blobs;
@@ -113,6 +110,13 @@ CoupledResistanceMath::BodyNames HydrodynamicInteractions::bodyNames() const {
     return [this] (int body) { return model.getBodyName(body); };
 }
 
+void HydrodynamicInteractions::validateBlobs(const vector<Vec3>& positions, const vector<double>& radii, const Vec3* boxVectors) const {
+    vector<int> owner;
+    for (int b = 0; b < model.getNumBodies(); b++)
+        owner.insert(owner.end(), types[model.getBodyType(b)].coords.size(), b);
+    CoupledResistanceMath::validateBlobs(Caller, positions, radii, owner, boxVectors, bodyNames(), wallZ);
+}
+
 int HydrodynamicInteractions::getNumBlobs() const {
     int count = 0;
     for (int b = 0; b < model.getNumBodies(); b++)
@@ -142,7 +146,7 @@ Eigen::MatrixXd HydrodynamicInteractions::computeResistance(const vector<BodySta
         owner.insert(owner.end(), types[model.getBodyType(b)].coords.size(), b);
         origins.push_back(states[b].position);
     }
-    Eigen::MatrixXd r = CoupledResistanceMath::resistance(Caller, positions, radii, owner, origins, boxVectors, bodyNames());
+    Eigen::MatrixXd r = CoupledResistanceMath::resistance(Caller, positions, radii, owner, origins, boxVectors, bodyNames(), wallZ);
     // Each body's rows and columns into its frame (Q, lab to body, on its force and its torque),
     // then calibrated: T_a R_ab T_b.
     for (int b = 0; b < numBodies; b++) {
@@ -221,14 +225,12 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
     vector<double> radii;
     placeBlobs(states, positions, radii);
     const int numBlobs = positions.size();
-    vector<int> firstBlob(numBodies), owner;
-    for (int b = 0, k = 0; b < numBodies; k += types[model.getBodyType(b)].coords.size(), b++) {
+    vector<int> firstBlob(numBodies);
+    for (int b = 0, k = 0; b < numBodies; k += types[model.getBodyType(b)].coords.size(), b++)
         firstBlob[b] = k;
-        owner.insert(owner.end(), types[model.getBodyType(b)].coords.size(), b);
-    }
     // What the dense path refuses, refused here before any product: non-finite positions would
     // spend every iteration on NaN, and two blobs the same sphere make M singular.
-    CoupledResistanceMath::validateBlobs(Caller, positions, radii, owner, boxVectors, bodyNames());
+    validateBlobs(positions, radii, boxVectors);
     const double c = 0.5*h*viscosity;
     // Each type's friction preconditioner, for this c.
     for (int t = 0; t < (int) types.size(); t++) {
@@ -296,9 +298,9 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
     VectorXd z = 2*masses.cwiseProduct(u);
     if (kT > 0) {
         VectorXd root, solved;
-        iterations.noise = checkSolve("the Lanczos square root of the blobs' mobility for the noise",
+        iterations.noise = checkHydrodynamicSolve("the Lanczos square root of the blobs' mobility for the noise",
                                       KrylovSolvers::lanczosSquareRoot(mobility, normals, root, tolerance, maxIterations), numBodies, numBlobs);
-        iterations.noiseSolve = checkSolve("the conjugate gradients on the blobs' mobility for the noise",
+        iterations.noiseSolve = checkHydrodynamicSolve("the conjugate gradients on the blobs' mobility for the noise",
                                            KrylovSolvers::conjugateGradient(mobility, blockSolver(false), root, solved, tolerance, maxIterations),
                                            numBodies, numBlobs);
         VectorXd xi;
@@ -318,9 +320,9 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
     // start from the best multiple of the last step's (one product), or from zero after a checkpoint.
     VectorXd startProduct;
     KrylovSolvers::scaledStart(schur, lastFrictionSolution, rhs, y, startProduct);
-    iterations.friction = checkSolve("the conjugate gradients for the friction (on M/c + K M_b^-1 K^T, M the blobs' mobility)",
-                                     KrylovSolvers::conjugateGradient(schur, blockSolver(true), rhs, y, tolerance, maxIterations, &startProduct),
-                                     numBodies, numBlobs);
+    iterations.friction = checkHydrodynamicSolve("the conjugate gradients for the friction (on M/c + K M_b^-1 K^T, M the blobs' mobility)",
+                                               KrylovSolvers::conjugateGradient(schur, blockSolver(true), rhs, y, tolerance, maxIterations, &startProduct),
+                                               numBodies, numBlobs);
     if (warmStarts)
         lastFrictionSolution = y;
     VectorXd back;

@@ -107,7 +107,19 @@ vector<TypeStepCoefficients> RigidLangevinPlugin::computeStepCoefficients(const 
             double x = (m > 0 ? stepSize*viscosity*type.resistance(k, k)/m : 0.0);
             c.driveFraction[k] = (x == 0 ? 1.0 : -2*std::expm1(-0.5*x)/x);
         }
-        Eigen::VectorXd share = Eigen::VectorXd::Constant(dof, 0.5);
+        c.mobility = Matrix6::Zero();
+        c.mobilityFactor = Matrix6::Zero();
+        if (scheme == SplittingScheme::Overdamped) {
+            Eigen::LLT<Eigen::MatrixXd> friction(xi);
+            if (friction.info() != Eigen::Success || !(viscosity > 0))
+                throw OpenMMException("RigidBrownianIntegrator: the friction of "+model.getBodyName(model.getFirstBodyOfType(t))+" is not positive definite "
+                        "(the viscosity must be positive for overdamped dynamics)");
+            Eigen::MatrixXd mobility = friction.solve(Eigen::MatrixXd::Identity(dof, dof));
+            mobility = 0.5*(mobility+mobility.transpose());
+            c.mobility.topLeftCorner(dof, dof) = mobility;
+            c.mobilityFactor.topLeftCorner(dof, dof) = Eigen::MatrixXd(mobility.llt().matrixL());
+        }
+        Eigen::VectorXd share = Eigen::VectorXd::Constant(dof, scheme == SplittingScheme::Overdamped ? 0.0 : 0.5);
         if (scheme == SplittingScheme::ExactFlow)
             for (int i = 0; i < dof; i++)
                 share[i] = synchronousShare(stepSize*std::max(0.0, lambda[i]));

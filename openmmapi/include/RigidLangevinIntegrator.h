@@ -7,31 +7,13 @@
  *   solvent, with a full 6x6 hydrodynamic resistance tensor per body.        *
  * -------------------------------------------------------------------------- */
 
-#include "openmm/Integrator.h"
-#include "openmm/Kernel.h"
-#include "openmm/Vec3.h"
-#include "ResistanceTensor.h"
-#include "internal/windowsExportRigidLangevin.h"
-#include <map>
-#include <vector>
+#include "RigidBodyIntegrator.h"
 
 namespace RigidLangevinPlugin {
 
 /**
- * An integrator for Langevin dynamics of rigid bodies in implicit solvent.
- *
- * Each rigid body is a set of particles that moves as one: its centre of mass translates and its
- * principal axes rotate, and the solvent acts on it through a 6x6 resistance tensor Xi (per unit
- * viscosity) coupling translation and rotation:
- *
- *     (force, torque) = -viscosity * Xi * (velocity, angular velocity),
- *
- * together with the random force and torque that fluctuation-dissipation requires at the bath
- * temperature. Particles in no body move as free particles with Stokes friction 6*pi*viscosity*r.
- *
- * Units are OpenMM's: temperature in K, viscosity in amu/(nm*ps) (1 poise = 60221.4 amu/(nm*ps);
- * water at 298 K is 536 amu/(nm*ps)), step size in ps, lengths in nm. A resistance tensor per unit
- * viscosity has blocks in nm (translation), nm^2 (coupling) and nm^3 (rotation).
+ * An integrator for Langevin dynamics of rigid bodies in implicit solvent: with inertia, the
+ * friction and noise of the solvent acting on every body's velocity and angular velocity.
  *
  * Three schemes are available (see docs/physics.md):
  *  - ExactFlow (default): between two half kicks of the forces, the linear Langevin flow of the
@@ -45,34 +27,11 @@ namespace RigidLangevinPlugin {
  *    unstable once (h/2)*max eigenvalue of M^-1*viscosity*Xi reaches 1, and the integrator refuses
  *    to run it there.
  *
- * Bodies are defined before the Context is created. Their geometry is taken from the positions
- * first set on the Context; identical bodies (same masses, radii and shape up to rotation and
- * translation, within 1e-3 nm) share one set of precomputed matrices and the exact same shape.
- * Positions set later must agree with rigid placements of the bodies (within 1e-3 nm) and
- * velocities are projected onto rigid motion; positions that deform a body are refused at the next
- * step or reading of body states (not by setPositions() itself: OpenMM's energy minimizer sets
- * positions that break the constraints keeping bodies rigid and restores them afterwards).
- * Positions and velocities changed by another integrator (in a CompoundIntegrator) are taken as
- * they are.
- *
- * A State (setState(), with integrator parameters) or a checkpoint restores where the bodies are
- * and how they move, exactly; the physics stays this integrator's: its temperature, viscosity,
- * scheme, radii, explicit tensors and blobs, whatever the integrator that saved it had. Where the
- * saved bodies are not this integrator's (other masses, as after Context::reinitialize(true) that
- * follows setParticleMass(), or bodies or their particles listed in another order), the bodies are
- * fitted to the restored particles instead, as setPositions() and setVelocities() would, so every
- * particle is where it was saved. If the plugin's part of a checkpoint or State is refused
- * (damaged, or its particles deform this integrator's bodies), OpenMM has already restored the
- * positions, velocities, time and box from it: the integrator then refuses to step or report body
- * states until positions are set again or a restore succeeds.
- *
- * A System with a CMMotionRemover is refused (OpenMMException at Context creation, or at the first
- * step after setViscosity()) while the viscosity is not zero: the solvent's friction and noise do
- * not conserve the total momentum, and removing it would remove real motion (a lone body would not
- * diffuse). In openmm.app, createSystem(..., removeCMMotion=False). At zero viscosity it acts as
- * under OpenMM's own integrators.
+ * The bodies, their hydrodynamics and the read-outs of body states are those of every rigid-body
+ * integrator: see RigidBodyIntegrator. At zero viscosity a CMMotionRemover acts as under OpenMM's
+ * own integrators.
  */
-class OPENMM_EXPORT_RIGIDLANGEVIN RigidLangevinIntegrator : public OpenMM::Integrator {
+class OPENMM_EXPORT_RIGIDLANGEVIN RigidLangevinIntegrator : public RigidBodyIntegrator {
 public:
     /** The integration schemes, see the class description. */
     enum Scheme {
@@ -88,306 +47,12 @@ public:
      * @param stepSize     the step size with which to integrate the system (in picoseconds)
      */
     RigidLangevinIntegrator(double temperature, double viscosity, double stepSize);
-    /** Get the temperature of the heat bath (in Kelvin). */
-    double getTemperature() const {
-        return temperature;
-    }
-    /** Set the temperature of the heat bath (in Kelvin). Takes effect at the next step. */
-    void setTemperature(double temp);
-    /** Get the viscosity of the solvent (in amu/(nm*ps)). */
-    double getViscosity() const {
-        return viscosity;
-    }
-    /**
-     * Set the viscosity of the solvent (in amu/(nm*ps)). Resistance tensors are stored per unit
-     * viscosity, so this rescales every friction without recomputing any hydrodynamics.
-     */
-    void setViscosity(double viscosity);
     /** Get the integration scheme. */
     Scheme getScheme() const {
         return scheme;
     }
     /** Set the integration scheme. Takes effect at the next step. */
     void setScheme(Scheme scheme);
-    /**
-     * Get the random number seed. See setRandomNumberSeed() for details.
-     */
-    int getRandomNumberSeed() const {
-        return randomNumberSeed;
-    }
-    /**
-     * Set the random number seed. The precise meaning of this parameter is undefined, and is left up
-     * to each Platform to interpret in an appropriate way. It is guaranteed that if two simulations
-     * are run with different random number seeds, the sequence of random forces will be different. On
-     * the other hand, no guarantees are made about the behavior of simulations that use the same seed.
-     * In particular, Platforms are permitted to use non-deterministic algorithms which produce different
-     * results on successive runs, even if those runs were initialized identically.
-     *
-     * If seed is set to 0 (which is the default value assigned), a unique seed is chosen when a Context
-     * is created from this Integrator. This is done to ensure that each Context receives unique random
-     * seeds without you needing to set them explicitly.
-     */
-    void setRandomNumberSeed(int seed);
-    /**
-     * Add a rigid body made of the given particles. A body holds one or more particles, at least
-     * one of them with mass; massless particles (sites) are carried along and their forces act on
-     * the body. A particle may belong to at most one body. Call this before creating a Context.
-     *
-     * @param particles  the indices of the particles in the body
-     * @return the index of the new body
-     */
-    int addRigidBody(const std::vector<int>& particles);
-    /** Get the number of rigid bodies that have been added. */
-    int getNumRigidBodies() const {
-        return bodies.size();
-    }
-    /** Get the particles of a rigid body. */
-    const std::vector<int>& getRigidBodyParticles(int index) const;
-    /**
-     * Set an explicit resistance tensor for a body, replacing the default hydrodynamic model.
-     *
-     * The tensor belongs to the body's shape, not to a frame: it is given together with the
-     * positions of the body's particles it was computed for, and the integrator carries it along
-     * with the body wherever a Context places it (any initial positions, a later frame, a State).
-     * Those positions must match the body's shape in the Context (within 1e-3 nm, after a rigid
-     * motion); otherwise creating the Context fails naming the body and particle.
-     *
-     * @param index               the index of the body
-     * @param tensor              36 values, row-major: the 6x6 resistance tensor per unit viscosity,
-     *                            ordered so that (force, torque) = -viscosity*tensor*(velocity,
-     *                            angular velocity), with velocity that of the point origin and torque
-     *                            about it. It must be symmetric and positive definite.
-     * @param origin              the reference point of the tensor (nm), in the frame of referencePositions
-     * @param referencePositions  the positions of the body's particles (in the order given to
-     *                            addRigidBody()) in the frame the tensor and origin are expressed in (nm)
-     */
-    void setBodyResistance(int index, const std::vector<double>& tensor, const OpenMM::Vec3& origin, const std::vector<OpenMM::Vec3>& referencePositions);
-    /**
-     * Get the explicit resistance tensor of a body.
-     *
-     * @param index                    the index of the body
-     * @param[out] tensor              the 36 values set by setBodyResistance(), or empty if none was set
-     * @param[out] origin              its reference point
-     * @param[out] referencePositions  the positions of the body's particles the tensor belongs to
-     * @return true if the body has an explicit tensor
-     */
-    bool getBodyResistance(int index, std::vector<double>& tensor, OpenMM::Vec3& origin, std::vector<OpenMM::Vec3>& referencePositions) const;
-    /**
-     * Give a body the friction of a hydrodynamic model (ResistanceTensor::ellipsoid(), beads(),
-     * shellExtrapolated(), ...) computed for the body's particles at referencePositions. The same
-     * as setBodyResistance() with the model's matrix and origin.
-     */
-    void setBodyHydrodynamics(int index, const ResistanceTensor& model, const std::vector<OpenMM::Vec3>& referencePositions);
-    /** Remove the explicit resistance tensor of a body, so that it uses the default model again. */
-    void clearBodyResistance(int index);
-    /**
-     * Set the hydrodynamic radius of a particle (nm). Without one, a particle with mass takes half the
-     * sigma of its NonbondedForce Lennard-Jones parameters where epsilon is not zero; a massive particle
-     * with neither is an error. Massless particles without a radius take no part in hydrodynamics.
-     *
-     * A body with several particles and no explicit tensor is a bead model of its particles with a
-     * radius: the Rotne-Prager-Yamakawa mobility of overlapping beads with the volume correction of a
-     * filling model, V the volume of the union of their spheres (ResistanceTensor::beads()). A
-     * single particle is a Stokes sphere. Identical bodies compute it once.
-     */
-    void setParticleRadius(int particle, double radius);
-    /** Get the hydrodynamic radius set for a particle (nm), or -1 if none was set. */
-    double getParticleRadius(int particle) const;
-    /** Get all radii set by setParticleRadius(), keyed by particle index. */
-    const std::map<int, double>& getParticleRadii() const {
-        return radii;
-    }
-    /**
-     * Couple all bodies through the solvent (hydrodynamic interactions), or not (the default: each
-     * body feels only its own friction, as if alone in the solvent). Call this before creating a
-     * Context.
-     *
-     * With interactions, the solvent's friction and noise act on all bodies together through their
-     * coupled resistance: moving one body drags its neighbours. Each body is a set of hydrodynamic
-     * blobs (spheres fixed in it: by default its particles with a radius, see setParticleRadius();
-     * or those given with setBodyBlobs()), and the bodies' resistance is that of the rigid
-     * multiblob model (CoupledResistance: the blobs' generalised Rotne-Prager-Yamakawa mobility,
-     * overlapping and unequal blobs included), calibrated so that a body far from every other has
-     * exactly the friction it has without interactions (its bead model, or the tensor given with
-     * setBodyResistance()), whatever its blobs. The coupling between bodies is as accurate as their
-     * blobs resolve their surfaces: a single blob is a far-field (Rotne-Prager) sphere; blobs on the
-     * surface (ResistanceTensor::roughShellBeads()) converge to the exact two-body friction as they
-     * are refined. The calibration scales the coupling of distant bodies by the ratio of their
-     * blobs' friction to their own (see CoupledResistance), so give a body blobs whose friction
-     * alone is its tensor's: ResistanceTensor::scaleBlobsToFriction() scales them to it. The
-     * friction is recomputed every step, on every platform, in double precision: dense on
-     * Reference (Cholesky; cost (3B)^3/3 for B blobs in all), and on CPU, OpenCL and CUDA from 100
-     * blobs matrix-free (conjugate gradients for the friction, Lanczos for the noise, each
-     * preconditioned by every body's own blocks, to the relative residual of
-     * setHydrodynamicTolerance(); setHydrodynamicSolver() and setKrylovMinBlobs() choose; a solve that
-     * does not converge, or finds the mobility not positive definite, throws naming it; in a periodic
-     * box with the Ewald-summed mobility formed once a
-     * step), dense below that. On OpenCL and CUDA the coupled step is taken on the host, the blobs'
-     * mobility products of the Krylov solves in an unbounded solvent on the device (a tiled kernel,
-     * double precision; a device without double precision is refused). In a periodic System the blobs feel
-     * every image of every body (an Ewald sum of their mobility, exact for any box; see
-     * CoupledResistance::setPeriodicBox()), so a lone body in a box of side L is slowed by
-     * Hasimoto's finite-size correction, about 2.84 a/L for a sphere of radius a. Each step first
-     * checks the blobs, dense or not, and names the body and blob it refuses: positions must be
-     * finite, no two blobs may be the same sphere (on one body or two, or through the periodic
-     * box), and in a periodic box every blob's diameter must be under half the box's smallest
-     * width (the least distance between opposite faces), as a body must be narrower than half the
-     * box, so that blobs overlap only the nearest image of each other.
-     *
-     * The step is BAOAB's (setScheme(BAOAB)) with the friction step the midpoint rule for all bodies
-     * at once: it keeps the Maxwell distribution of velocities exactly at any friction and step,
-     * the long-time diffusion of a free body exact, and the drift of a body under a constant force
-     * exact (the mean of getRigidBodyStates() velocities too). Its velocities decay by
-     * (1 - x/2)/(1 + x/2) a step per mode of the friction (x = gamma h of the mode) instead of
-     * exp(-x): the velocity autocorrelation is right to O(x^3) a step where x is small, but it
-     * alternates in sign where x > 2 (-0.83 a step at x = 21). Keep the fastest mode's gamma h below
-     * 2 where velocity autocorrelations matter; positions, diffusion and the ensemble are right at
-     * any step. Creating a Context or stepping with interactions under another scheme throws.
-     */
-    void setHydrodynamicInteractions(bool enabled);
-    /**
-     * The iterations the last step's Krylov solves of the coupled friction took (see
-     * setHydrodynamicInteractions()), to see what a system costs and how well conditioned it is:
-     * the Lanczos iteration for the noise, the conjugate gradients for the noise and those for the
-     * friction, in that order (each iteration one product with the blobs' mobility). All zero after
-     * a dense step, at zero viscosity or without interactions; the noise's zero at zero temperature.
-     * The integrator must be bound to a Context.
-     */
-    std::vector<int> getKrylovIterations() const;
-    /** Get whether bodies are coupled through the solvent (setHydrodynamicInteractions()). */
-    bool getHydrodynamicInteractions() const {
-        return hydrodynamicInteractions;
-    }
-    /** How the coupled friction of hydrodynamic interactions is solved (setHydrodynamicSolver()). */
-    enum HydrodynamicSolver {
-        /** Dense below getKrylovMinBlobs() blobs, matrix-free from there (dense on Reference at the default). */
-        AutomaticSolver = 0,
-        /** Form and factorise the bodies' coupled resistance (Cholesky): cost (3B)^3/3 for B blobs. */
-        DenseSolver = 1,
-        /** Matrix-free: conjugate gradients and Lanczos with products of the blobs' mobility. */
-        KrylovSolver = 2
-    };
-    /**
-     * Set how the coupled friction of hydrodynamic interactions is solved (the default is
-     * AutomaticSolver). Takes effect at the next step. (The environment variable
-     * RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER, dense or krylov, overrides it on every platform but
-     * Reference; it is there for the tests, which run both paths on small systems.)
-     */
-    void setHydrodynamicSolver(HydrodynamicSolver solver);
-    /** Get how the coupled friction of hydrodynamic interactions is solved (setHydrodynamicSolver()). */
-    HydrodynamicSolver getHydrodynamicSolver() const {
-        return hydrodynamicSolver;
-    }
-    /**
-     * Set the relative residual at which the matrix-free solves of the coupled friction stop
-     * (conjugate gradients: |b - A x| <= tolerance |b|; Lanczos: two successive estimates of M^1/2 w
-     * within tolerance), between 1e-12 (what double precision reaches reliably) and 0.1. The
-     * friction and noise are wrong by about the tolerance, relative; see the README's speed-against-
-     * error study for what that does to what users measure. Takes effect at the next step.
-     */
-    void setHydrodynamicTolerance(double tolerance);
-    /** Get the relative residual at which the matrix-free solves stop (setHydrodynamicTolerance()). */
-    double getHydrodynamicTolerance() const {
-        return hydrodynamicTolerance;
-    }
-    /**
-     * Set the number of blobs from which AutomaticSolver solves matrix-free (dense below), or -1 for
-     * the platform's default: 100 on CPU, OpenCL and CUDA, where the matrix-free step is already the
-     * faster (benchmarks/platforms/hydrodynamic_interactions.py); never on Reference, whose dense,
-     * exact step is the definition of correct. Takes effect at the next step.
-     */
-    void setKrylovMinBlobs(int blobs);
-    /** Get the number of blobs from which AutomaticSolver solves matrix-free, or -1 for the platform's default (setKrylovMinBlobs()). */
-    int getKrylovMinBlobs() const {
-        return krylovMinBlobs;
-    }
-    /**
-     * Give a body the hydrodynamic blobs through which it feels other bodies when hydrodynamic
-     * interactions are on (setHydrodynamicInteractions()), replacing its particles with a radius.
-     * Like an explicit tensor, the blobs belong to the body's shape: they are given together with
-     * the positions of the body's particles they were placed around, and move with the body.
-     * A body that does not rotate (its mass at one point) must have its blobs at that point, a
-     * linear body on its axis. Call this before creating a Context.
-     *
-     * @param index               the index of the body
-     * @param blobPositions       the centres of its blobs (nm), in the frame of referencePositions
-     * @param blobRadii           their radii (nm), positive
-     * @param referencePositions  the positions of the body's particles (in the order given to
-     *                            addRigidBody()) in the same frame (nm)
-     */
-    void setBodyBlobs(int index, const std::vector<OpenMM::Vec3>& blobPositions, const std::vector<double>& blobRadii,
-                      const std::vector<OpenMM::Vec3>& referencePositions);
-    /**
-     * Get the blobs given to a body with setBodyBlobs().
-     *
-     * @param index                    the index of the body
-     * @param[out] blobPositions       their centres, or empty if none were given
-     * @param[out] blobRadii           their radii
-     * @param[out] referencePositions  the positions of the body's particles they belong to
-     * @return true if the body has blobs given explicitly
-     */
-    bool getBodyBlobs(int index, std::vector<OpenMM::Vec3>& blobPositions, std::vector<double>& blobRadii,
-                      std::vector<OpenMM::Vec3>& referencePositions) const;
-    /** Remove the blobs given to a body, so that its particles with a radius are its blobs again. */
-    void clearBodyBlobs(int index);
-    /**
-     * Get the number of degrees of freedom the integrator moves: 6 per rigid body (5 for a linear
-     * body, 3 for a body whose mass is all at one point), plus 3 per free particle with mass.
-     * This needs a Context with positions, since whether a body is linear depends on its shape.
-     * A CMMotionRemover does not change this count; computeSystemTemperature() accounts for it.
-     */
-    int getNumDegreesOfFreedom() const;
-    /**
-     * Get the state of every rigid body added with addRigidBody(), in that order. Needs a Context
-     * with positions; computes the forces at them. A particle at body-frame coordinates b (see
-     * getRigidBodyCoordinates()) is at center + A b and moves at velocity + angularVelocity x A b.
-     *
-     * The velocities are synchronous with the positions: the velocity a body has under the forces
-     * at its position, which for a body pulled by a constant force F averages exactly its drift
-     * velocity (F/(m gamma) for a sphere of friction m gamma) at any step and friction under
-     * ExactFlow, and whose fluctuations under a constant force have the exact autocorrelation
-     * exp(-gamma t). Under ExactFlow with friction they are the stored velocity plus
-     * beta(gamma h) = 1/(gamma h) - 1/(exp(gamma h) - 1) of a full kick h F/m (per mode of
-     * M^-1 viscosity Xi): one half without friction (velocity Verlet's on-step velocity), 1/(gamma h)
-     * when friction is stiff. Under BAOAB (with or without hydrodynamic interactions) and Original
-     * they are the stored velocity plus half a kick: under BAOAB their mean is BAOAB's own drift,
-     * (gamma h/2) coth(gamma h/2) times F/(m gamma) (as its diffusion is too fast by that factor),
-     * exactly F/(m gamma) with hydrodynamic interactions (whose friction step's autocorrelation is
-     * described at setHydrodynamicInteractions()).
-     *
-     * A State's velocities, and the particle velocities the Context holds, are instead the stored
-     * ones, as OpenMM's own integrators store theirs: with friction under ExactFlow and BAOAB the
-     * velocities whose distribution is exactly Maxwell's for free bodies (the ones
-     * computeKineticEnergy() and the temperatures use), which under a constant force average
-     * gamma h/(exp(gamma h) - 1) of the drift (0.90 at gamma h = 0.2, 0.31 at 2, 0 when gamma h is
-     * large); without friction and under Original, half a kick behind the positions. Measure drift
-     * velocities (sedimentation, electrophoresis) and velocity autocorrelations from these body
-     * states, not from a State's velocities.
-     *
-     * @param[out] centers            each body's centre of mass (nm), unwrapped: it moves on across
-     *                                the periodic box, so that a body's displacement is its motion
-     *                                (wrap it yourself if you want it in the box)
-     * @param[out] orientations       9 values per body, row-major: the rotation A (body frame to
-     *                                lab) whose columns are the body's principal axes of inertia in
-     *                                the lab frame, in the order of getRigidBodyCoordinates()
-     * @param[out] velocities         each body's centre-of-mass velocity (nm/ps), synchronous
-     * @param[out] angularVelocities  each body's angular velocity in the lab frame (radians/ps),
-     *                                synchronous; a linear body never turns about its own axis
-     */
-    void getRigidBodyStates(std::vector<OpenMM::Vec3>& centers, std::vector<double>& orientations, std::vector<OpenMM::Vec3>& velocities,
-                            std::vector<OpenMM::Vec3>& angularVelocities) const;
-    /**
-     * Get the coordinates (nm) of a rigid body's particles in its own frame: relative to its centre
-     * of mass, along its principal axes (the columns of its orientation in getRigidBodyStates()),
-     * in the order given to addRigidBody(). Fixed for the life of a Context; needs one with positions.
-     */
-    std::vector<OpenMM::Vec3> getRigidBodyCoordinates(int index) const;
-    /**
-     * Get the number of body types: bodies with the same masses, radii, friction model and shape
-     * (up to a rotation, within 1e-3 nm) share one, and with it every precomputed matrix and one
-     * hydrodynamic calculation. Free particles count too. Needs a Context with positions.
-     */
-    int getNumBodyTypes() const;
     /**
      * Compute the instantaneous temperature of the system from the kinetic energy of all rigid
      * bodies and free particles and getNumDegreesOfFreedom(). If the System has a CMMotionRemover
@@ -406,10 +71,9 @@ public:
      */
     void step(int steps);
 protected:
-    void initialize(OpenMM::ContextImpl& context);
-    void cleanup();
-    std::vector<std::string> getKernelNames();
-    void stateChanged(OpenMM::State::DataType changed);
+    std::string className() const {
+        return "RigidLangevinIntegrator";
+    }
     double computeKineticEnergy();
     bool kineticEnergyRequiresForce() const;
     std::vector<OpenMM::Vec3> getVelocitiesForTemperature(const OpenMM::System& system, double temperature, int randomSeed) const;
@@ -419,37 +83,9 @@ protected:
      * stored velocities are the ones with the exact thermal distribution.
      */
     double getVelocityTimeOffset() const;
-    void createCheckpoint(std::ostream& stream) const;
-    void loadCheckpoint(std::istream& stream);
-    void serializeParameters(OpenMM::SerializationNode& node) const;
-    void deserializeParameters(const OpenMM::SerializationNode& node);
 private:
-    struct BodyResistance {
-        std::vector<double> tensor;
-        OpenMM::Vec3 origin;
-        std::vector<OpenMM::Vec3> referencePositions;
-    };
-    struct BodyBlobs {
-        std::vector<OpenMM::Vec3> positions;
-        std::vector<double> radii;
-        std::vector<OpenMM::Vec3> referencePositions;
-    };
-    void checkNotBound(const char* method) const;
-    void checkBodyIndex(int index, const char* method) const;
     double computeTemperature(int components);
-    double temperature, viscosity;
-    int randomNumberSeed;
     Scheme scheme;
-    bool hydrodynamicInteractions;
-    HydrodynamicSolver hydrodynamicSolver;
-    double hydrodynamicTolerance;
-    int krylovMinBlobs;
-    std::vector<std::vector<int> > bodies;
-    std::map<int, BodyResistance> resistances;
-    std::map<int, BodyBlobs> blobs;
-    std::map<int, double> radii;
-    std::map<int, int> particleBody;
-    mutable OpenMM::Kernel kernel;
 };
 
 } // namespace RigidLangevinPlugin

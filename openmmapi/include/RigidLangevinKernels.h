@@ -1,6 +1,7 @@
 #ifndef RIGID_LANGEVIN_KERNELS_H_
 #define RIGID_LANGEVIN_KERNELS_H_
 
+#include "RigidBrownianIntegrator.h"
 #include "RigidLangevinIntegrator.h"
 #include "StickyDipoleForce.h"
 #include "internal/RigidBodyModel.h"
@@ -15,8 +16,9 @@
 namespace RigidLangevinPlugin {
 
 /**
- * This kernel is invoked by RigidLangevinIntegrator to take one time step, and to report and
- * change the state of the rigid bodies it moves. The body model and every matrix a step needs come
+ * This kernel is invoked by the rigid-body integrators (RigidLangevinIntegrator,
+ * RigidBrownianIntegrator) to take one time step, and to report and change the state of the rigid
+ * bodies they move. The body model and every matrix a step needs come
  * precomputed from the API layer (RigidBodyModel, computeStepCoefficients()); a kernel applies
  * them to its platform's data.
  */
@@ -31,13 +33,14 @@ public:
      * Initialize the kernel.
      *
      * @param system      the System this kernel will be applied to
-     * @param integrator  the RigidLangevinIntegrator this kernel will be used for
+     * @param integrator  the integrator this kernel will be used for
      */
-    virtual void initialize(const OpenMM::System& system, const RigidLangevinIntegrator& integrator) = 0;
+    virtual void initialize(const OpenMM::System& system, const RigidBodyIntegrator& integrator) = 0;
     /**
-     * Take one time step. The forces in the context are those at the current positions.
+     * Take one time step of the integrator's dynamics (Langevin or overdamped). The forces in the
+     * context are those at the current positions.
      */
-    virtual void execute(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator) = 0;
+    virtual void execute(OpenMM::ContextImpl& context, const RigidBodyIntegrator& integrator) = 0;
     /**
      * Compute the kinetic energy of the bodies' translation and rotation, and that of the motion of
      * the centre of mass of the whole system (kJ/mol).
@@ -62,7 +65,7 @@ public:
      * Get the state of every body with its synchronous velocities (TypeStepCoefficients::
      * synchronousKick), from the forces at the current positions (computed here).
      */
-    virtual void getSynchronousBodyStates(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, std::vector<BodyState>& states) = 0;
+    virtual void getSynchronousBodyStates(OpenMM::ContextImpl& context, const RigidBodyIntegrator& integrator, std::vector<BodyState>& states) = 0;
     /**
      * Restore the body states of a State, expressed in the frames of the body types it carries
      * (RigidBodyModel::writeTypes()), into this integrator's bodies (RigidBodyModel::restoreStates():

@@ -1,7 +1,9 @@
 """Langevin dynamics of rigid bodies of arbitrary shape in implicit solvent, for OpenMM.
 
-The integrator, RigidLangevinIntegrator, moves rigid bodies (and free particles) with friction and
-noise from a full 6x6 hydrodynamic resistance tensor per body; ResistanceTensor builds and queries
+The integrators move rigid bodies (and free particles) with friction and noise from a full 6x6
+hydrodynamic resistance tensor per body: RigidLangevinIntegrator with inertia, RigidBrownianIntegrator
+overdamped (colloids), both with hydrodynamic interactions and a no-slip wall (RigidBodyIntegrator
+holds what they share); ResistanceTensor builds and queries
 such tensors; StickyDipoleForce is the soft sticky dipole family of single-site water models. Viscosities may be given with the units exported here (poise, centipoise) or any
 openmm.unit viscosity.
 """
@@ -25,7 +27,7 @@ if _BUILT_AGAINST and openmm.version.short_version.split('.')[:2] != _BUILT_AGAI
                       f'{openmm.version.short_version}: reinstall it (pip install --force-reinstall --no-cache-dir openmm-rigid-langevin, '
                       f'or rebuild from the source) against this OpenMM')
 
-from .core import RigidLangevinIntegrator, ResistanceTensor, StickyDipoleForce
+from .core import RigidBodyIntegrator, RigidLangevinIntegrator, RigidBrownianIntegrator, ResistanceTensor, StickyDipoleForce
 from ._units import poise, centipoise, md_viscosity
 from .topology import addRigidBodies
 from .internal import removeInternalInteractions
@@ -34,7 +36,7 @@ from . import hydrodynamics
 from . import ssd
 from . import forcefield as _forcefield  # registers <StickyDipoleForce> with openmm.app.ForceField
 
-__all__ = ['RigidLangevinIntegrator', 'ResistanceTensor', 'StickyDipoleForce', 'poise', 'centipoise', 'md_viscosity', 'addRigidBodies', 'removeInternalInteractions',
+__all__ = ['RigidBodyIntegrator', 'RigidLangevinIntegrator', 'RigidBrownianIntegrator', 'ResistanceTensor', 'StickyDipoleForce', 'poise', 'centipoise', 'md_viscosity', 'addRigidBodies', 'removeInternalInteractions',
            'RigidBodyTemperatureReporter', 'RigidBodyStateReporter', 'castForce', 'hydrodynamics', 'ssd']
 
 

@@ -70,6 +70,11 @@ def resistance_result(result):
     return matrix6(values), unit.Quantity(openmm.Vec3(*origin), unit.nanometer), vectors_in_nm(reference)
 
 
+def length_in_nm(length):
+    """A float in nm from a length Quantity, or from a number taken as nm."""
+    return length.value_in_unit(unit.nanometer) if unit.is_quantity(length) else float(length)
+
+
 def lengths_in_nm(lengths):
     """Floats in nm from a Quantity (of a sequence or an array) of lengths, or from numbers taken as nm."""
     if unit.is_quantity(lengths):

@@ -1,7 +1,7 @@
 """Reporters for openmm.app.Simulation: the temperatures of rigid-body dynamics, and every body's state."""
 import openmm.unit as unit
 
-from .core import RigidLangevinIntegrator
+from .core import RigidBrownianIntegrator, RigidLangevinIntegrator
 
 
 class _CsvReporter(object):
@@ -66,7 +66,8 @@ class RigidBodyTemperatureReporter(_CsvReporter):
 
 
 class RigidBodyStateReporter(_CsvReporter):
-    """Writes every rigid body's state (RigidLangevinIntegrator.getRigidBodyStates()) as comma-separated
+    """Writes every rigid body's state (getRigidBodyStates() of a RigidLangevinIntegrator or a
+    RigidBrownianIntegrator, whose velocities are the last step's displacement over the step) as comma-separated
     values, one row per body per report, for numpy (numpy.genfromtxt(file, delimiter=',', names=True))
     or pandas (pandas.read_csv(file)). The header names the columns:
 
@@ -103,7 +104,7 @@ class RigidBodyStateReporter(_CsvReporter):
         self._bodies = None if bodies is None else [int(b) for b in bodies]
 
     def report(self, simulation, state):
-        integrator = RigidLangevinIntegrator.cast(simulation.integrator)
+        integrator = _rigid_body_integrator(simulation.integrator)
         states = integrator.getRigidBodyStates()
         centers = states.centers.value_in_unit(unit.nanometer)
         velocities = states.velocities.value_in_unit(unit.nanometer/unit.picosecond)
@@ -114,3 +115,10 @@ class RigidBodyStateReporter(_CsvReporter):
             values = list(centers[b])+list(states.orientations[b].ravel())+list(velocities[b])+list(angular[b])
             lines.append(','.join([str(simulation.currentStep), time, str(b)]+['%.10g' % v for v in values]))
         self._write(','.join(self.COLUMNS), lines)
+
+
+def _rigid_body_integrator(integrator):
+    """The simulation's integrator as the rigid-body integrator it is (Langevin or Brownian)."""
+    if RigidBrownianIntegrator.isinstance(integrator):
+        return RigidBrownianIntegrator.cast(integrator)
+    return RigidLangevinIntegrator.cast(integrator)

@@ -1,3 +1,5 @@
+#include "RigidBrownianIntegrator.h"
+#include "RigidBrownianIntegratorProxy.h"
 #include "RigidLangevinIntegrator.h"
 #include "RigidLangevinIntegratorProxy.h"
 #include "StickyDipoleForce.h"
@@ -22,5 +24,6 @@ using namespace RigidLangevinPlugin;
 
 extern "C" OPENMM_EXPORT_RIGIDLANGEVIN void registerRigidLangevinSerializationProxies() {
     OpenMM::SerializationProxy::registerProxy(typeid(RigidLangevinIntegrator), new RigidLangevinIntegratorProxy());
+    OpenMM::SerializationProxy::registerProxy(typeid(RigidBrownianIntegrator), new RigidBrownianIntegratorProxy());
     OpenMM::SerializationProxy::registerProxy(typeid(StickyDipoleForce), new StickyDipoleForceProxy());
 }

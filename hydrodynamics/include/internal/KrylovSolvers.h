@@ -100,6 +100,16 @@ OPENMM_EXPORT_HYDRODYNAMICS void scaledStart(const Operator& a, const Eigen::Vec
 OPENMM_EXPORT_HYDRODYNAMICS Result lanczosSquareRoot(const Operator& a, const Eigen::VectorXd& w, Eigen::VectorXd& result, double tolerance,
                                                      int maxIterations);
 
+/**
+ * Solve A x = b by GMRES(restart) with right preconditioning: the Krylov space of A P, P an
+ * approximation of A^-1 (any nonsingular operator: A need not be symmetric or definite, as the
+ * rigid bodies' saddle-point mobility problem is not), starting from x as given (resized to zero if
+ * its size differs), until |b - A x| <= tolerance |b|. The residual is the true one at each
+ * restart. Outcomes: Converged, NotConverged (after maxIterations products with A), NotFinite.
+ */
+OPENMM_EXPORT_HYDRODYNAMICS Result gmres(const Operator& a, const Operator& preconditioner, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                         double tolerance, int maxIterations, int restart = 60);
+
 } // namespace KrylovSolvers
 } // namespace RigidLangevinPlugin
 

@@ -2,11 +2,13 @@
 #define RIGID_LANGEVIN_HYDRODYNAMIC_INTERACTIONS_H_
 
 #include "internal/BlobMobility.h"
+#include "internal/KrylovSolvers.h"
 #include "internal/CoupledResistanceMath.h"
 #include "internal/RigidBodyModel.h"
 #include <Eigen/Cholesky>
 #include "internal/windowsExportRigidLangevin.h"
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 namespace RigidLangevinPlugin {
@@ -26,8 +28,20 @@ namespace RigidLangevinPlugin {
  */
 class OPENMM_EXPORT_RIGIDLANGEVIN HydrodynamicInteractions {
 public:
-    /** Precompute every type's blobs and calibration; throws an OpenMMException naming a body whose blobs do not resist every motion it makes. */
-    explicit HydrodynamicInteractions(const RigidBodyModel& model);
+    /**
+     * Precompute every type's blobs and calibration; throws an OpenMMException naming a body whose
+     * blobs do not resist every motion it makes. wallZ: the height of a no-slip wall bounding the
+     * fluid (the blobs' mobility then Rotne-Prager-Blake's), or none.
+     */
+    explicit HydrodynamicInteractions(const RigidBodyModel& model, std::optional<double> wallZ = std::nullopt);
+    /** The no-slip wall's height, or none. */
+    std::optional<double> getWall() const {
+        return wallZ;
+    }
+    /** The model whose bodies these are. */
+    const RigidBodyModel& getModel() const {
+        return model;
+    }
     /** The number of coordinates of all bodies together. */
     int getNumCoordinates() const {
         return masses.size();
@@ -82,6 +96,22 @@ public:
     void forgetWarmStart() const;
     /** Warm starts on (the default) or off, e.g. to measure what they save; forgets the last solution. */
     void setWarmStarts(bool warm);
+    /** The blobs' lab positions and radii, all bodies in order. */
+    void placeBlobs(const std::vector<BodyState>& states, std::vector<OpenMM::Vec3>& positions, std::vector<double>& radii) const;
+    /** The first of a body's coordinates (its active generalised coordinates follow, getNumDegreesOfFreedom() of them). */
+    int getFirstCoordinate(int body) const {
+        return firstCoordinate[body];
+    }
+    /** K' of a body type in its frame: the body-frame velocities of its blobs (3 per blob) from its active generalised velocities (calibrated). */
+    const Eigen::MatrixXd& getTypeBlobVelocities(int type) const {
+        return types[type].velocities;
+    }
+    /** The mobility of a body type's own blobs in its frame (3 per blob), factorised. */
+    const Eigen::LLT<Eigen::MatrixXd>& getTypeSelfMobility(int type) const {
+        return types[type].selfMobility;
+    }
+    /** Throw, naming body and blob, where blobs placed from states cannot be solved (HydrodynamicInteractions' checks, shared by every path). */
+    void validateBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors) const;
 private:
     struct TypeBlobs {
         std::vector<OpenMM::Vec3> coords;
@@ -94,15 +124,20 @@ private:
     };
     /** The bodies' names for messages about their blobs (RigidBodyModel::getBodyName). */
     CoupledResistanceMath::BodyNames bodyNames() const;
-    /** The blobs' lab positions and radii, all bodies in order. */
-    void placeBlobs(const std::vector<BodyState>& states, std::vector<OpenMM::Vec3>& positions, std::vector<double>& radii) const;
     const RigidBodyModel& model;
+    std::optional<double> wallZ;
     std::vector<TypeBlobs> types;
     std::vector<int> firstCoordinate;
     Eigen::VectorXd masses;
     bool warmStarts = true;
     mutable Eigen::VectorXd lastFrictionSolution;  // the last friction solve's y (lab frame), empty when forgotten
 };
+
+/**
+ * The iterations a Krylov solve of the coupled bodies took if it converged; otherwise throw an
+ * OpenMMException naming the solve, why it failed (KrylovSolvers::explain) and what to do.
+ */
+OPENMM_EXPORT_RIGIDLANGEVIN int checkHydrodynamicSolve(const std::string& solve, const KrylovSolvers::Result& result, int numBodies, int numBlobs);
 
 /**
  * The friction step of bodies coupled through the solvent: the midpoint (Crank-Nicolson) rule for

@@ -36,7 +36,8 @@ OPENMM_EXPORT_RIGIDLANGEVIN ModeCoefficients computeModeCoefficients(double lamb
 enum class SplittingScheme {
     ExactFlow = 0,  // the values of RigidLangevinIntegrator::Scheme (checked where both are seen)
     BAOAB = 1,
-    Original = 2
+    Original = 2,
+    Overdamped = 3  // RigidBrownianIntegrator
 };
 
 /**
@@ -45,6 +46,8 @@ enum class SplittingScheme {
  * thermal distribution; half a step for velocity Verlet (no friction) and the Original scheme.
  */
 inline double velocityTimeOffset(SplittingScheme scheme, double viscosity, double stepSize) {
+    if (scheme == SplittingScheme::Overdamped)
+        return 0.0;
     bool onStep = (viscosity == 0 || scheme == SplittingScheme::Original);
     return onStep ? 0.5*stepSize : 0.0;
 }
@@ -91,6 +94,8 @@ struct TypeStepCoefficients {
      * velocity) in the other schemes and without friction.
      */
     Matrix6 synchronousKick;
+    /** Overdamped: each body's own mobility (viscosity Xi)^-1 on the active coordinates (body frame), and its Cholesky factor (lower). */
+    Matrix6 mobility, mobilityFactor;
 };
 
 /**

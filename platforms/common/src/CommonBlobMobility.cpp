@@ -7,7 +7,7 @@ using namespace RigidLangevinPlugin;
 using namespace OpenMM;
 using std::vector;
 
-CommonBlobMobility::CommonBlobMobility(ComputeContext& cc) : cc(cc), numBlobs(0), numParts(1), periodic(false) {
+CommonBlobMobility::CommonBlobMobility(ComputeContext& cc) : cc(cc), numBlobs(0), numParts(1), periodic(false), wall(false) {
     if (!cc.getSupportsDoublePrecision())
         throw OpenMMException("RigidLangevinIntegrator: hydrodynamic interactions on this device need double precision, which it does not have; "
                 "use another device, the CPU platform, or setHydrodynamicInteractions(false)");
@@ -20,8 +20,8 @@ CommonBlobMobility::CommonBlobMobility(ComputeContext& cc) : cc(cc), numBlobs(0)
 void CommonBlobMobility::setBlobs(const vector<Vec3>& positions, const vector<double>& radii, const Vec3* boxVectors) {
     numBlobs = positions.size();
     periodic = (boxVectors != NULL);
-    if (periodic) {
-        periodicOnHost.setBlobs(positions, radii, boxVectors);
+    if (periodic || wall) {
+        onHost.setBlobs(positions, radii, boxVectors);
         return;
     }
     ContextSelector selector(cc);
@@ -75,11 +75,16 @@ void CommonBlobMobility::setBlobs(const vector<Vec3>& positions, const vector<do
     sumKernel->setArg(1, numParts);
 }
 
+void CommonBlobMobility::setWall(double wallZ) {
+    onHost.setWall(wallZ);
+    wall = true;
+}
+
 void CommonBlobMobility::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out) {
     if (f.size() != 3*numBlobs)
         throw OpenMMException("CommonBlobMobility: a product with "+std::to_string(f.size())+" force components for "+std::to_string(numBlobs)+" blobs");
-    if (periodic) {
-        periodicOnHost.multiply(f, out);
+    if (periodic || wall) {
+        onHost.multiply(f, out);
         return;
     }
     out.resize(f.size());

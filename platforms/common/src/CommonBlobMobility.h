@@ -15,8 +15,9 @@ namespace RigidLangevinPlugin {
  * enough work groups to fill the device. The blobs are uploaded once per step
  * (setBlobs), each product's force and velocity once per product; the solvers themselves run on
  * the host (HydrodynamicInteractions::krylovFrictionStep), as on the CPU, so that every platform
- * takes the same Krylov steps. In a periodic box the products are the host's (HostBlobMobility: the
- * Ewald-summed M formed once per step); the device kernel is for an unbounded solvent. Throws an
+ * takes the same Krylov steps. In a periodic box and above a wall the products are the host's
+ * (HostBlobMobility: the Ewald-summed M formed once per step, or Rotne-Prager-Blake's on the host's
+ * threads); the device kernel is for an unbounded solvent. Throws an
  * OpenMMException if the device has no double precision.
  */
 class CommonBlobMobility : public BlobMobility {
@@ -24,6 +25,8 @@ public:
     explicit CommonBlobMobility(OpenMM::ComputeContext& cc);
     void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors = NULL);
     void multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out);
+    /** Above a wall every product is the host's. */
+    void setWall(double wallZ);
     /** Blobs per work group (and per tile of local memory). */
     static const int TileSize = 64;
     /** Tasks a product is split into at least, on any device (a GPU asks for more): see setBlobs. */
@@ -33,8 +36,8 @@ private:
     OpenMM::ComputeKernel kernel, sumKernel;
     OpenMM::ComputeArray blobs, force, velocity, parts;
     int numBlobs, numParts;
-    bool periodic;
-    HostBlobMobility periodicOnHost;
+    bool periodic, wall;
+    HostBlobMobility onHost;  ///< the products in a periodic box or above a wall
 };
 
 } // namespace RigidLangevinPlugin

@@ -1,4 +1,6 @@
 #include "CommonRigidLangevinKernels.h"
+#include <array>
+#include <memory>
 #include "RigidBodyKernelLayout.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/common/ContextSelector.h"
@@ -90,7 +92,7 @@ CommonIntegrateRigidLangevinStepKernel::CommonIntegrateRigidLangevinStepKernel(s
         numReductionGroups(1), randomSeed(0), randomStep(0) {
 }
 
-void CommonIntegrateRigidLangevinStepKernel::initialize(const System& system, const RigidLangevinIntegrator& integrator) {
+void CommonIntegrateRigidLangevinStepKernel::initialize(const System& system, const RigidBodyIntegrator& integrator) {
     RigidLangevinStepKernelBase::initialize(system, integrator);
     cc.initializeContexts();
     ContextSelector selector(cc);
@@ -101,9 +103,13 @@ void CommonIntegrateRigidLangevinStepKernel::initialize(const System& system, co
     if (randomSeed == 0)
         randomSeed = std::random_device()();
     randomStep = 0;
+    // The overdamped step runs on the host (BrownianBodyStep); its Context still places, reduces and
+    // sums kinetic energies with this program's kernels, compiled here for BAOAB's layout.
+    const RigidLangevinIntegrator* inertial = dynamic_cast<const RigidLangevinIntegrator*>(&integrator);
+    const RigidLangevinIntegrator::Scheme scheme = (inertial != NULL ? inertial->getScheme() : RigidLangevinIntegrator::BAOAB);
     ComputeProgram program = cc.compileProgram(RigidBodyKernelLayout::source(),
-            RigidBodyKernelLayout::defines(cc.getPaddedNumAtoms(), mixedIsDouble, integrator.getScheme()));
-    vector<ComputeKernel>& kernels = stepKernels[integrator.getScheme()];
+            RigidBodyKernelLayout::defines(cc.getPaddedNumAtoms(), mixedIsDouble, scheme));
+    vector<ComputeKernel>& kernels = stepKernels[scheme];
     for (int group = 0; group < NumStepGroups; group++)
         kernels.push_back(program->createKernel(stepKernelName(group)));
     placeKernel = program->createKernel("placeBodyAtoms");
@@ -463,7 +469,6 @@ int CommonIntegrateRigidLangevinStepKernel::randomFloat4PerBody(int group, Rigid
 
 void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, const RigidLangevinIntegrator& integrator, bool removeMotion) {
     ContextSelector selector(cc);
-    IntegrationUtilities& integration = cc.getIntegrationUtilities();
     const double h = integrator.getStepSize();
     const RigidLangevinIntegrator::Scheme scheme = integrator.getScheme();
     const bool frictionless = (integrator.getViscosity() == 0);
@@ -494,34 +499,38 @@ void CommonIntegrateRigidLangevinStepKernel::takeStep(ContextImpl& context, cons
         }
         randomStep++;
     }
+    finishHostStep(context, h);
+}
+
+std::function<double ()> CommonIntegrateRigidLangevinStepKernel::hostNormals() {
+    // Four normal numbers per counter, the counters apart from the step kernels' (their draw index
+    // is below MaxRandomFloat4PerBody), keyed by the seed and this step's randomStep.
+    const unsigned int CoupledDraw = 0x48490000u;
+    const unsigned int seed = randomSeed;
+    const int step = randomStep++;
+    std::shared_ptr<int> drawn = std::make_shared<int>(0);
+    std::shared_ptr<std::array<float, 4> > normals = std::make_shared<std::array<float, 4> >();
+    return [=] () {
+        if (*drawn%4 == 0)
+            normalFloat4(seed, *drawn/4, CoupledDraw, step, normals->data());
+        return (double) (*normals)[(*drawn)++%4];
+    };
+}
+
+BlobMobility& CommonIntegrateRigidLangevinStepKernel::blobMobility() {
+    if (!deviceMobility)
+        deviceMobility.reset(new CommonBlobMobility(cc));
+    return *deviceMobility;
+}
+
+void CommonIntegrateRigidLangevinStepKernel::finishHostStep(ContextImpl& /*context*/, double h) {
     // The step kernels placed the bodies' sites with their bodies; OpenMM's kernel, which places
     // every site from its parents, is for sites outside bodies.
     if (model->hasSitesOutsideBodies())
-        integration.computeVirtualSites();
+        cc.getIntegrationUtilities().computeVirtualSites();
     cc.setTime(cc.getTime()+h);
     cc.setStepCount(cc.getStepCount()+1);
     cc.reorderAtoms();
-}
-
-void CommonIntegrateRigidLangevinStepKernel::advanceCoupledBodies(ContextImpl& context, const RigidLangevinIntegrator& integrator) {
-    vector<BodyState> states;
-    downloadBodyStates(context, states);
-    vector<Vec3> forces;
-    context.getForces(forces);
-    if (!blobMobility)
-        blobMobility.reset(new CommonBlobMobility(cc));
-    // Four normal numbers per counter, the counters apart from the step kernels' (their draw index
-    // is below MaxRandomFloat4PerBody).
-    const unsigned int CoupledDraw = 0x48490000u;
-    int drawn = 0;
-    float normals[4];
-    takeCoupledStep(context, integrator, states, forces, [&] () {
-        if (drawn%4 == 0)
-            normalFloat4(randomSeed, drawn/4, CoupledDraw, randomStep, normals);
-        return (double) normals[drawn++%4];
-    }, *blobMobility, KrylovSolvers::sequentially);
-    randomStep++;
-    uploadBodyStates(context, states);
 }
 
 void CommonIntegrateRigidLangevinStepKernel::computeBodyKineticEnergies(ContextImpl& /*context*/, double timeShift,

@@ -38,7 +38,7 @@ namespace RigidLangevinPlugin {
 class CommonIntegrateRigidLangevinStepKernel : public RigidLangevinStepKernelBase {
 public:
     CommonIntegrateRigidLangevinStepKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ComputeContext& cc);
-    void initialize(const OpenMM::System& system, const RigidLangevinIntegrator& integrator);
+    void initialize(const OpenMM::System& system, const RigidBodyIntegrator& integrator);
 protected:
     void initializeBodies(OpenMM::ContextImpl& context, const RigidBodyModel& model);
     void uploadBodyStates(OpenMM::ContextImpl& context, const std::vector<BodyState>& states);
@@ -54,10 +54,13 @@ protected:
     int getDefaultKrylovMinBlobs() const {
         return 100;
     }
+    /** From the step kernels' counter-based generator, keyed by the seed and randomStep (one a step). */
+    std::function<double ()> hostNormals();
+    /** The device's products of the blobs' mobility (CommonBlobMobility). */
+    BlobMobility& blobMobility();
+    void finishHostStep(OpenMM::ContextImpl& context, double h);
 private:
-    /** With hydrodynamic interactions: the coupled step of all bodies (takeCoupledStep) on the host, the mobility products on the device. */
-    void advanceCoupledBodies(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator);
-    std::unique_ptr<CommonBlobMobility> blobMobility;
+    std::unique_ptr<CommonBlobMobility> deviceMobility;
     class AtomOrderListener;
     /** Find where each body particle is stored now, and its periodic cell offset. */
     void updateAtomSlots();

@@ -34,7 +34,7 @@ uint32_t chunkSeed(uint32_t seed, int chunk) {
 
 } // namespace
 
-void CpuIntegrateRigidLangevinStepKernel::initialize(const System& system, const RigidLangevinIntegrator& integrator) {
+void CpuIntegrateRigidLangevinStepKernel::initialize(const System& system, const RigidBodyIntegrator& integrator) {
     RigidLangevinStepKernelBase::initialize(system, integrator);
     numBodies = model->getNumBodies();
     int numChunks = std::max(1, std::min(numBodies, (int) MaxChunks));

@@ -29,7 +29,7 @@ public:
                                         OpenMM::CpuPlatform::PlatformData& cpuData) :
             HostRigidLangevinStepKernel<ZigguratGaussianRandom>(name, platform, data), threads(cpuData.threads) {
     }
-    void initialize(const OpenMM::System& system, const RigidLangevinIntegrator& integrator);
+    void initialize(const OpenMM::System& system, const RigidBodyIntegrator& integrator);
     /** The most chunks (and random streams) the bodies are split into. */
     static const int MaxChunks = 64;
     /** Below this many bodies the chunks are run on the calling thread. */

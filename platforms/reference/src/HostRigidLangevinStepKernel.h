@@ -89,9 +89,23 @@ protected:
     void uploadCoefficients(OpenMM::ContextImpl& /*context*/, const std::vector<TypeStepCoefficients>& /*coefficients*/) {
         // The base class keeps them in `coefficients`; they are read in place.
     }
-    /** Run task over [0, count) in ranges, on the platform's threads where it has them. */
-    virtual void parallelFor(int count, const std::function<void (int, int)>& task) {
-        task(0, count);
+    /** The first chunk's stream: a trajectory does not depend on the number of threads. */
+    std::function<double ()> hostNormals() {
+        return [this] () { return random[0]->random.next(); };
+    }
+    /** The host's products of the blobs' mobility, on this platform's threads. */
+    BlobMobility& blobMobility() {
+        if (!hostMobility)
+            hostMobility.reset(new HostBlobMobility([this] (int count, const std::function<void (int, int)>& task) { parallelFor(count, task); }));
+        return *hostMobility;
+    }
+    void finishHostStep(OpenMM::ContextImpl& context, double h) {
+        // Placing the bodies placed their sites; OpenMM's computePositions, which places every
+        // site from its parents (about a tenth of a step of four-site water bodies), is for the others.
+        if (model->hasSitesOutsideBodies())
+            data.virtualSites->computePositions(context.getSystem(), *data.positions, data.periodicBoxVectors);
+        data.time += h;
+        data.stepCount++;
     }
     void takeStep(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, bool removeMotion) {
         const double h = integrator.getStepSize();
@@ -108,12 +122,7 @@ protected:
                 advanceBodies(begin, end, random[chunk]->random, scheme, h, frictionless, removeMotion, centerOfMassVelocity);
             });
         }
-        // Placing the bodies placed their sites; OpenMM's computePositions, which places every
-        // site from its parents (about a tenth of a step of four-site water bodies), is for the others.
-        if (model->hasSitesOutsideBodies())
-            data.virtualSites->computePositions(context.getSystem(), *data.positions, data.periodicBoxVectors);
-        data.time += h;
-        data.stepCount++;
+        finishHostStep(context, h);
     }
     void computeBodyKineticEnergies(OpenMM::ContextImpl& /*context*/, double timeShift, double& translational, double& rotational, OpenMM::Vec3& momentum) {
         int numChunks = getNumChunks();
@@ -151,21 +160,7 @@ protected:
     OpenMM::ReferencePlatform::PlatformData& data;
     std::vector<std::unique_ptr<RandomStream> > random;  // one per chunk
 private:
-    std::unique_ptr<HostBlobMobility> hostMobility;  // the blobs' mobility for matrix-free coupled steps, on this platform's threads
-    /**
-     * With hydrodynamic interactions: the coupled step of all bodies (takeCoupledStep), its normal
-     * numbers from the first chunk's stream so that a trajectory does not depend on the number of
-     * threads, the products of the blobs' mobility and the per-body work on this platform's threads.
-     */
-    void advanceCoupledBodies(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator) {
-        std::vector<BodyState> states;
-        downloadBodyStates(context, states);
-        if (!hostMobility)
-            hostMobility.reset(new HostBlobMobility([this] (int count, const std::function<void (int, int)>& task) { parallelFor(count, task); }));
-        takeCoupledStep(context, integrator, states, *data.forces, [this] () { return random[0]->random.next(); }, *hostMobility,
-                        [this] (int count, const std::function<void (int, int)>& task) { parallelFor(count, task); });
-        uploadBodyStates(context, states);
-    }
+    std::unique_ptr<HostBlobMobility> hostMobility;  // the blobs' mobility for matrix-free steps, on this platform's threads
     /** Advance bodies [begin, end) by one step, drawing from rng (in two builds: RIGIDLANGEVIN_HOST_CLONES). */
     RIGIDLANGEVIN_HOST_CLONES
     void advanceBodies(int begin, int end, Random& rng, RigidLangevinIntegrator::Scheme scheme, double h, bool frictionless,

@@ -6,7 +6,7 @@ using namespace OpenMM;
 // The host step's one instantiation for the Reference platform (see ReferenceRigidLangevinKernels.h).
 template class RigidLangevinPlugin::HostRigidLangevinStepKernel<GaussianRandom>;
 
-void ReferenceIntegrateRigidLangevinStepKernel::initialize(const System& system, const RigidLangevinIntegrator& integrator) {
+void ReferenceIntegrateRigidLangevinStepKernel::initialize(const System& system, const RigidBodyIntegrator& integrator) {
     RigidLangevinStepKernelBase::initialize(system, integrator);
     std::vector<std::unique_ptr<RandomStream> > streams;
     streams.emplace_back(new RandomStream(integrator.getRandomNumberSeed()));

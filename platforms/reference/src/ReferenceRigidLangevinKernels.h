@@ -21,7 +21,7 @@ public:
     ReferenceIntegrateRigidLangevinStepKernel(std::string name, const OpenMM::Platform& platform, OpenMM::ReferencePlatform::PlatformData& data) :
             HostRigidLangevinStepKernel<GaussianRandom>(name, platform, data) {
     }
-    void initialize(const OpenMM::System& system, const RigidLangevinIntegrator& integrator);
+    void initialize(const OpenMM::System& system, const RigidBodyIntegrator& integrator);
 protected:
     void createRandomCheckpoint(std::ostream& stream);
     void loadRandomCheckpoint(std::istream& stream);

@@ -1,4 +1,5 @@
 #include "internal/RigidLangevinStepKernelBase.h"
+#include "internal/RotnePragerBlake.h"
 #include "internal/BodyDynamics.h"
 #include "internal/CheckpointSection.h"
 #include "openmm/CMMotionRemover.h"
@@ -25,18 +26,29 @@ RigidLangevinStepKernelBase::RigidLangevinStepKernelBase(std::string name, const
 
 namespace {
 
+/** The Langevin integrator, or null for the overdamped one. */
+const RigidLangevinIntegrator* langevin(const RigidBodyIntegrator& integrator) {
+    return dynamic_cast<const RigidLangevinIntegrator*>(&integrator);
+}
+
+/** The integrator's class name, for messages. */
+std::string integratorName(const RigidBodyIntegrator& integrator) {
+    return (langevin(integrator) != NULL ? "RigidLangevinIntegrator" : "RigidBrownianIntegrator");
+}
+
 /** The integrator's scheme, as the model's coefficients name it (the same values: RigidLangevinIntegrator.cpp). */
-SplittingScheme stepScheme(const RigidLangevinIntegrator& integrator) {
-    return static_cast<SplittingScheme>(integrator.getScheme());
+SplittingScheme stepScheme(const RigidBodyIntegrator& integrator) {
+    const RigidLangevinIntegrator* inertial = langevin(integrator);
+    return (inertial == NULL ? SplittingScheme::Overdamped : static_cast<SplittingScheme>(inertial->getScheme()));
 }
 
 /** The time by which the integrator's reported velocities are kicked forward (the model's rule). */
-double integratorVelocityOffset(const RigidLangevinIntegrator& integrator) {
+double integratorVelocityOffset(const RigidBodyIntegrator& integrator) {
     return velocityTimeOffset(stepScheme(integrator), integrator.getViscosity(), integrator.getStepSize());
 }
 
 /** The bodies the user gave the integrator, as the plain description the model is built from. */
-RigidBodyDescription describeBodies(const RigidLangevinIntegrator& integrator) {
+RigidBodyDescription describeBodies(const RigidBodyIntegrator& integrator) {
     RigidBodyDescription description;
     description.bodies.resize(integrator.getNumRigidBodies());
     for (int b = 0; b < integrator.getNumRigidBodies(); b++) {
@@ -52,7 +64,7 @@ RigidBodyDescription describeBodies(const RigidLangevinIntegrator& integrator) {
 
 } // namespace
 
-void RigidLangevinStepKernelBase::initialize(const System& system, const RigidLangevinIntegrator& integrator) {
+void RigidLangevinStepKernelBase::initialize(const System& system, const RigidBodyIntegrator& integrator) {
     model.reset(new RigidBodyModel(system, describeBodies(integrator)));
     for (int i = 0; i < system.getNumForces(); i++) {
         const CMMotionRemover* remover = dynamic_cast<const CMMotionRemover*>(&system.getForce(i));
@@ -65,22 +77,34 @@ void RigidLangevinStepKernelBase::initialize(const System& system, const RigidLa
     interactionsEnabled = integrator.getHydrodynamicInteractions();
     if (interactionsEnabled)
         checkInteractionScheme(integrator);
+    double height;
+    wall = (integrator.getWall(height) ? std::optional<double>(height) : std::nullopt);
+    if (wall && !interactionsEnabled)
+        throw OpenMMException(integratorName(integrator)+": a no-slip wall (setWall()) acts through the blobs' mobility: "
+                              "call setHydrodynamicInteractions(true) too (a body alone above the wall then feels it)");
+    if (wall && system.usesPeriodicBoundaryConditions())
+        throw OpenMMException(integratorName(integrator)+": a no-slip wall (setWall()) with a periodic System is not supported: "
+                              "use a non-periodic System (no periodic forces), or clearWall()");
 }
 
-void RigidLangevinStepKernelBase::checkInteractionScheme(const RigidLangevinIntegrator& integrator) const {
-    if (interactionsEnabled && integrator.getViscosity() != 0 && integrator.getScheme() != RigidLangevinIntegrator::BAOAB)
+void RigidLangevinStepKernelBase::checkInteractionScheme(const RigidBodyIntegrator& integrator) const {
+    const RigidLangevinIntegrator* inertial = langevin(integrator);
+    if (interactionsEnabled && inertial != NULL && integrator.getViscosity() != 0 && inertial->getScheme() != RigidLangevinIntegrator::BAOAB)
         throw OpenMMException("RigidLangevinIntegrator: hydrodynamic interactions are integrated with the BAOAB scheme, whose friction step couples all "
                 "bodies at once; call setScheme(RigidLangevinIntegrator::BAOAB) (in Python, rigidlangevin.RigidLangevinIntegrator.BAOAB)");
 }
 
 void RigidLangevinStepKernelBase::initializeInteractions() {
     if (interactionsEnabled) {
-        interactions.reset(new HydrodynamicInteractions(*model));
+        interactions.reset(new HydrodynamicInteractions(*model, wall));
+        if (wall)
+            blobMobility().setWall(*wall);
         coupledStep.reset(new CoupledBodyStep(*model, *interactions));
     }
+    brownianStep.reset();
 }
 
-CoupledSolve RigidLangevinStepKernelBase::chooseCoupledSolve(const RigidLangevinIntegrator& integrator, int numBlobs) const {
+CoupledSolve RigidLangevinStepKernelBase::chooseCoupledSolve(const RigidBodyIntegrator& integrator, int numBlobs) const {
     CoupledSolve solve = {false, integrator.getHydrodynamicTolerance(), KrylovMaxIterations};
     const int platformMinBlobs = getDefaultKrylovMinBlobs();
     const char* setting = std::getenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER");
@@ -99,7 +123,7 @@ CoupledSolve RigidLangevinStepKernelBase::chooseCoupledSolve(const RigidLangevin
     return solve;
 }
 
-void RigidLangevinStepKernelBase::takeCoupledStep(ContextImpl& context, const RigidLangevinIntegrator& integrator, vector<BodyState>& states,
+void RigidLangevinStepKernelBase::takeCoupledStep(ContextImpl& context, const RigidBodyIntegrator& integrator, vector<BodyState>& states,
                                                   const vector<Vec3>& forces, const std::function<double ()>& normal, BlobMobility& mobility,
                                                   const KrylovSolvers::ParallelFor& parallel) {
     Vec3 box[3];
@@ -190,8 +214,8 @@ void RigidLangevinStepKernelBase::fitBodiesToParticles(ContextImpl& context) {
     expectedStepCount = context.getStepCount();
 }
 
-void RigidLangevinStepKernelBase::updateCoefficients(ContextImpl& context, const RigidLangevinIntegrator& integrator) {
-    double parameters[4] = {integrator.getTemperature(), integrator.getViscosity(), integrator.getStepSize(), (double) integrator.getScheme()};
+void RigidLangevinStepKernelBase::updateCoefficients(ContextImpl& context, const RigidBodyIntegrator& integrator) {
+    double parameters[4] = {integrator.getTemperature(), integrator.getViscosity(), integrator.getStepSize(), (double) stepScheme(integrator)};
     bool changed = coefficients.empty();
     for (int i = 0; i < 4; i++)
         changed |= (parameters[i] != coefficientParameters[i]);
@@ -200,7 +224,7 @@ void RigidLangevinStepKernelBase::updateCoefficients(ContextImpl& context, const
     checkMotionRemover(parameters[1]);
     checkInteractionScheme(integrator);
     vector<TypeStepCoefficients> newCoefficients = computeStepCoefficients(*model, stepScheme(integrator), parameters[0], parameters[1], parameters[2]);
-    if (integrator.getScheme() == RigidLangevinIntegrator::Original)
+    if (stepScheme(integrator) == SplittingScheme::Original)
         checkOriginalSchemeStability(*model, newCoefficients, parameters[2]);
     coefficients = newCoefficients;
     uploadCoefficients(context, coefficients);
@@ -208,13 +232,57 @@ void RigidLangevinStepKernelBase::updateCoefficients(ContextImpl& context, const
         coefficientParameters[i] = parameters[i];
 }
 
-void RigidLangevinStepKernelBase::execute(ContextImpl& context, const RigidLangevinIntegrator& integrator) {
+void RigidLangevinStepKernelBase::execute(ContextImpl& context, const RigidBodyIntegrator& integrator) {
+    const bool placedByUs = !particlesChanged && context.getStepCount() == expectedStepCount;
     updateBodies(context);
     updateCoefficients(context, integrator);
-    // A CMMotionRemover acts on the particle velocities before the step, on the same steps as here.
-    bool removeMotion = (removerFrequency > 0 && context.getStepCount()%removerFrequency == 0);
-    takeStep(context, integrator, removeMotion);
+    try {
+        const RigidLangevinIntegrator* inertial = langevin(integrator);
+        if (inertial == NULL)
+            takeBrownianStep(context, integrator);
+        else {
+            // A CMMotionRemover acts on the particle velocities before the step, on the same steps as here.
+            bool removeMotion = (removerFrequency > 0 && context.getStepCount()%removerFrequency == 0);
+            takeStep(context, *inertial, removeMotion);
+        }
+    }
+    catch (const RotnePragerBlake::BlobBelowWallException& e) {
+        if (!placedByUs)
+            throw;
+        throw OpenMMException(std::string(e.what())+". It was above the wall before the last step, which moved it through: take smaller steps "
+                              "(setStepSize()), or make the wall's repulsion (a force of the System) stiffer, so that no body reaches the wall in one step");
+    }
     expectedStepCount = context.getStepCount();
+}
+
+void RigidLangevinStepKernelBase::takeBrownianStep(ContextImpl& context, const RigidBodyIntegrator& integrator) {
+    vector<BodyState> states;
+    downloadBodyStates(context, states);
+    vector<Vec3> forces;
+    context.getForces(forces);
+    if (!brownianStep)
+        brownianStep.reset(new BrownianBodyStep(*model, interactions.get()));
+    Vec3 box[3];
+    const bool periodic = context.getSystem().usesPeriodicBoundaryConditions();
+    if (periodic)
+        context.getPeriodicBoxVectors(box[0], box[1], box[2]);
+    CoupledStepParameters step = {integrator.getStepSize(), integrator.getViscosity(), BOLTZ*integrator.getTemperature(), periodic ? box : NULL};
+    CoupledSolve solve = (interactions ? chooseCoupledSolve(integrator, interactions->getNumBlobs()) :
+                          CoupledSolve{false, integrator.getHydrodynamicTolerance(), KrylovMaxIterations});
+    brownianStep->take(states, forces, step, solve, coefficients, hostNormals(), blobMobility());
+    lastKrylovIterations = brownianStep->getLastIterations();
+    uploadBodyStates(context, states);
+    finishHostStep(context, integrator.getStepSize());
+}
+
+void RigidLangevinStepKernelBase::advanceCoupledBodies(ContextImpl& context, const RigidBodyIntegrator& integrator) {
+    vector<BodyState> states;
+    downloadBodyStates(context, states);
+    vector<Vec3> forces;
+    context.getForces(forces);
+    takeCoupledStep(context, integrator, states, forces, hostNormals(), blobMobility(),
+                    [this] (int count, const std::function<void (int, int)>& task) { parallelFor(count, task); });
+    uploadBodyStates(context, states);
 }
 
 void RigidLangevinStepKernelBase::computeKineticEnergies(ContextImpl& context, const RigidLangevinIntegrator& integrator,
@@ -236,7 +304,7 @@ void RigidLangevinStepKernelBase::getBodyStates(ContextImpl& context, vector<Bod
     downloadBodyStates(context, states);
 }
 
-void RigidLangevinStepKernelBase::getSynchronousBodyStates(ContextImpl& context, const RigidLangevinIntegrator& integrator, vector<BodyState>& states) {
+void RigidLangevinStepKernelBase::getSynchronousBodyStates(ContextImpl& context, const RigidBodyIntegrator& integrator, vector<BodyState>& states) {
     getBodyStates(context, states);
     updateCoefficients(context, integrator);
     context.calcForcesAndEnergy(true, false, integrator.getIntegrationForceGroups());

@@ -2,6 +2,7 @@
 #define RIGID_LANGEVIN_STEP_KERNEL_BASE_H_
 
 #include "RigidLangevinKernels.h"
+#include "internal/BrownianBodyStep.h"
 #include "internal/CoupledBodyStep.h"
 #include "internal/HydrodynamicInteractions.h"
 #include "internal/RigidBodyModel.h"
@@ -16,21 +17,24 @@ namespace RigidLangevinPlugin {
 /**
  * What every platform's step kernel shares: the body model, fitting bodies to particles the user
  * set, recomputing step coefficients when a parameter changes, when a CMMotionRemover acts, which
- * kinetic energy is reported, and checkpoints. A platform supplies where body states and
- * coefficients live, the step itself, kinetic energies and its random numbers' state.
+ * kinetic energy is reported, checkpoints, and the steps taken on the host (the coupled Langevin
+ * step with hydrodynamic interactions, CoupledBodyStep, and the overdamped step of
+ * RigidBrownianIntegrator, BrownianBodyStep). A platform supplies where body states and
+ * coefficients live, its Langevin step, kinetic energies, its random numbers (and their state),
+ * where the blobs' mobility products are computed, and its threads.
  */
 class OPENMM_EXPORT_RIGIDLANGEVIN RigidLangevinStepKernelBase : public IntegrateRigidLangevinStepKernel {
 public:
     RigidLangevinStepKernelBase(std::string name, const OpenMM::Platform& platform);
-    void initialize(const OpenMM::System& system, const RigidLangevinIntegrator& integrator);
-    void execute(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator);
+    void initialize(const OpenMM::System& system, const RigidBodyIntegrator& integrator);
+    void execute(OpenMM::ContextImpl& context, const RigidBodyIntegrator& integrator);
     void computeKineticEnergies(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator,
                                 double& translational, double& rotational, double& centerOfMass);
     bool kineticEnergyRequiresForce(const RigidLangevinIntegrator& integrator) const;
     void stateChanged(OpenMM::ContextImpl& context, OpenMM::State::DataType changed);
     const RigidBodyModel& getModel(OpenMM::ContextImpl& context);
     void getBodyStates(OpenMM::ContextImpl& context, std::vector<BodyState>& states);
-    void getSynchronousBodyStates(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, std::vector<BodyState>& states);
+    void getSynchronousBodyStates(OpenMM::ContextImpl& context, const RigidBodyIntegrator& integrator, std::vector<BodyState>& states);
     void getKrylovIterations(int& noise, int& noiseSolve, int& friction) const {
         noise = lastKrylovIterations.noise;
         noiseSolve = lastKrylovIterations.noiseSolve;
@@ -72,12 +76,32 @@ protected:
         return -1;
     }
     /**
+     * Standard normal numbers for one step taken on the host (coupled or overdamped), from one
+     * stream, so that a trajectory does not depend on the number of threads. Called once a step;
+     * the function returned draws that step's numbers.
+     */
+    virtual std::function<double ()> hostNormals() = 0;
+    /** This platform's products of the blobs' mobility (on the host or a device). */
+    virtual BlobMobility& blobMobility() = 0;
+    /** Run task over [0, count) in ranges, on the platform's threads where it has them. */
+    virtual void parallelFor(int count, const std::function<void (int, int)>& task) {
+        task(0, count);
+    }
+    /** After a step taken on the host: place sites outside bodies, advance the time by h and the step count by one. */
+    virtual void finishHostStep(OpenMM::ContextImpl& context, double h) = 0;
+    /**
+     * With hydrodynamic interactions under RigidLangevinIntegrator: the coupled step of all bodies
+     * (takeCoupledStep) with this platform's states, forces, normal numbers, mobility products and
+     * threads. The caller finishes the step (finishHostStep()).
+     */
+    void advanceCoupledBodies(OpenMM::ContextImpl& context, const RigidBodyIntegrator& integrator);
+    /**
      * How this platform solves the coupled step of numBlobs blobs: as the integrator's hydrodynamic
      * solver settings say, or, on every platform but Reference, as the environment variable
      * RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER (dense or krylov; for the tests, which run both on small
      * systems) overrides them. Throws on any other value of the variable.
      */
-    CoupledSolve chooseCoupledSolve(const RigidLangevinIntegrator& integrator, int numBlobs) const;
+    CoupledSolve chooseCoupledSolve(const RigidBodyIntegrator& integrator, int numBlobs) const;
     /** Each matrix-free solve's iteration limit: beyond it the step throws, naming the solve. */
     static const int KrylovMaxIterations = 1000;
     /**
@@ -87,7 +111,7 @@ protected:
      * blob, only at a nonzero temperature, when matrix-free), where the blobs' mobility products are
      * computed and its threads for the per-body work. Advances the states in place.
      */
-    void takeCoupledStep(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator, std::vector<BodyState>& states,
+    void takeCoupledStep(OpenMM::ContextImpl& context, const RigidBodyIntegrator& integrator, std::vector<BodyState>& states,
                          const std::vector<OpenMM::Vec3>& forces, const std::function<double ()>& normal, BlobMobility& mobility,
                          const KrylovSolvers::ParallelFor& parallel);
     /** The iterations the last coupled step's Krylov solves took (all zero after a dense one). */
@@ -104,13 +128,17 @@ protected:
     std::unique_ptr<HydrodynamicInteractions> interactions;
     /** The coupled step with interactions; null without. */
     std::unique_ptr<CoupledBodyStep> coupledStep;
+    /** The overdamped step, once RigidBrownianIntegrator has taken one. */
+    std::unique_ptr<BrownianBodyStep> brownianStep;
     int removerFrequency, removerIndex;
 private:
-    void updateCoefficients(OpenMM::ContextImpl& context, const RigidLangevinIntegrator& integrator);
+    void updateCoefficients(OpenMM::ContextImpl& context, const RigidBodyIntegrator& integrator);
+    /** The overdamped step of RigidBrownianIntegrator (BrownianBodyStep), on the host for every platform. */
+    void takeBrownianStep(OpenMM::ContextImpl& context, const RigidBodyIntegrator& integrator);
     /** Refuse a CMMotionRemover at a nonzero viscosity (with an OpenMMException that says why and how to leave it out). */
     void checkMotionRemover(double viscosity) const;
     /** Refuse hydrodynamic interactions with a scheme other than BAOAB while there is friction. */
-    void checkInteractionScheme(const RigidLangevinIntegrator& integrator) const;
+    void checkInteractionScheme(const RigidBodyIntegrator& integrator) const;
     /** Build the bodies' coupling from the model's types, if interactions are on. */
     void initializeInteractions();
     /** Fit the bodies to the particles in the context (building the body types the first time), and place them. */
@@ -129,6 +157,7 @@ private:
     void refuseStepsIfRestoreFails(const std::string& source, const std::function<void ()>& restore);
     double coefficientParameters[4];
     bool bodiesInitialized, particlesChanged, ignoreStateChanges, positionsSet, interactionsEnabled;
+    std::optional<double> wall;  ///< the no-slip wall's height, if the integrator has one
     /** What the last refused restore was ("State", "checkpoint"), or empty. */
     std::string refusedRestore;
     /** The context's step count when this kernel last left the bodies and particles in agreement. */
