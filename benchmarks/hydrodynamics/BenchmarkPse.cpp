@@ -18,6 +18,7 @@
 #include "internal/PeriodicRotnePragerYamakawa.h"
 #include "internal/PositivelySplitEwald.h"
 #include "openmm/internal/ThreadPool.h"
+#include "BenchmarkTiming.h"
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -36,6 +37,7 @@
 #include <vector>
 
 using namespace RigidLangevinPlugin;
+using namespace BenchmarkTiming;
 using OpenMM::Vec3;
 using std::string;
 using std::vector;
@@ -72,110 +74,6 @@ Scene makeScene(int n) {
         scene.radii.push_back(Radius);
     }
     return scene;
-}
-
-int numThreads() {
-    const char* setting = std::getenv("OPENMM_CPU_THREADS");
-    if (setting != nullptr && std::atoi(setting) > 0)
-        return std::atoi(setting);
-    return std::max(1u, std::thread::hardware_concurrency());
-}
-
-/** A ParallelFor on pool's threads, each taking one contiguous range (as the CPU platform does). */
-KrylovSolvers::ParallelFor poolParallel(OpenMM::ThreadPool& pool) {
-    return [&pool] (int count, const std::function<void (int, int)>& task) {
-        const int n = pool.getNumThreads();
-        if (n == 1 || count < 2*n) {
-            task(0, count);
-            return;
-        }
-        pool.execute([&] (OpenMM::ThreadPool&, int t) { task((int) ((long long) count*t/n), (int) ((long long) count*(t+1)/n)); });
-        pool.waitForThreads();
-    };
-}
-
-double seconds(const std::function<void ()>& work) {
-    auto start = std::chrono::steady_clock::now();
-    work();
-    return std::chrono::duration<double>(std::chrono::steady_clock::now()-start).count();
-}
-
-/** The process's CPU time (all threads), in seconds. */
-double cpuSeconds() {
-    timespec now;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
-    return now.tv_sec+1e-9*now.tv_nsec;
-}
-
-/** Calls of work per block: enough to fill blockSeconds (at least one). */
-int callsPerBlock(const std::function<void ()>& work, double blockSeconds) {
-    const double once = seconds(work);
-    return std::max(1, (int) std::ceil(blockSeconds/std::max(once, 1e-9)));
-}
-
-/** Wall-clock seconds per call over a block of calls; cpu, if given, gains the block's CPU seconds
- *  per call (all threads). */
-double blockSecondsPerCall(const std::function<void ()>& work, int calls, vector<double>* cpu = nullptr) {
-    const double cpuStart = cpuSeconds();
-    const double wall = seconds([&] () {
-        for (int k = 0; k < calls; k++)
-            work();
-    })/calls;
-    if (cpu != nullptr)
-        cpu->push_back((cpuSeconds()-cpuStart)/calls);
-    return wall;
-}
-
-void meanAndError(const vector<double>& values, double& mean, double& error) {
-    mean = 0;
-    for (double v : values)
-        mean += v/values.size();
-    double variance = 0;
-    for (double v : values)
-        variance += (v-mean)*(v-mean)/std::max<size_t>(1, values.size()-1);
-    error = std::sqrt(variance/values.size());
-}
-
-} // namespace
-
-namespace {
-
-/** meanAndError of seconds, in milliseconds. */
-void meanAndErrorMs(const vector<double>& values, double& mean, double& error) {
-    meanAndError(values, mean, error);
-    mean *= 1e3;
-    error *= 1e3;
-}
-
-/** Times per call of a and b in alternating pairs of blocks (b first in every other pair); cpuA and
- *  cpuB, if given, gain each block's CPU seconds per call. */
-void alternatingPairs(const std::function<void ()>& a, const std::function<void ()>& b, int pairs, double blockSeconds, vector<double>& timesA,
-                      vector<double>& timesB, vector<double>* cpuA = nullptr, vector<double>* cpuB = nullptr) {
-    const int callsA = callsPerBlock(a, blockSeconds), callsB = callsPerBlock(b, blockSeconds);
-    for (int p = 0; p < pairs; p++) {
-        if (p%2 == 0) {
-            timesA.push_back(blockSecondsPerCall(a, callsA, cpuA));
-            timesB.push_back(blockSecondsPerCall(b, callsB, cpuB));
-        }
-        else {
-            timesB.push_back(blockSecondsPerCall(b, callsB, cpuB));
-            timesA.push_back(blockSecondsPerCall(a, callsA, cpuA));
-        }
-    }
-}
-
-/** Mean and standard error of timesB[i]/timesA[i] over the pairs. */
-void pairRatio(const vector<double>& timesA, const vector<double>& timesB, double& ratio, double& error) {
-    vector<double> ratios;
-    for (size_t i = 0; i < timesA.size(); i++)
-        ratios.push_back(timesB[i]/timesA[i]);
-    meanAndError(ratios, ratio, error);
-}
-
-double peakMiB() {
-    struct rusage usage;
-    getrusage(RUSAGE_SELF, &usage);
-    return usage.ru_maxrss/1024.0;  // Linux reports KiB
 }
 
 /** The PSE alone: setup, product, noise, memory. */
@@ -280,16 +178,6 @@ Row inChild(const std::function<void (Row&)>& work, const Row& start) {
     return (got == sizeof(row) ? row : start);
 }
 
-template <class T>
-vector<T> parseList(const string& text) {
-    vector<T> values;
-    std::stringstream stream(text);
-    string item;
-    while (std::getline(stream, item, ','))
-        values.push_back((T) std::stod(item));
-    return values;
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
@@ -302,23 +190,12 @@ int main(int argc, char** argv) {
     vector<double> tolerances = {1e-3, 1e-6};
     int peerMax = 2000, pairs = 5;
     double blockSeconds = 0.3;
-    for (int i = 2; i+1 < argc; i += 2) {
-        const string option = argv[i];
-        if (option == "--sizes")
-            sizes = parseList<int>(argv[i+1]);
-        else if (option == "--tolerances")
-            tolerances = parseList<double>(argv[i+1]);
-        else if (option == "--peer-max-blobs")
-            peerMax = std::atoi(argv[i+1]);
-        else if (option == "--pairs")
-            pairs = std::max(2, std::atoi(argv[i+1]));
-        else if (option == "--block-seconds")
-            blockSeconds = std::atof(argv[i+1]);
-        else {
-            std::cerr << "unknown option " << option << std::endl;
-            return 2;
-        }
-    }
+    if (!readOptions(argc, argv, {{"--sizes", [&] (const char* v) { sizes = parseList<int>(v); }},
+                                  {"--tolerances", [&] (const char* v) { tolerances = parseList<double>(v); }},
+                                  {"--peer-max-blobs", [&] (const char* v) { peerMax = std::atoi(v); }},
+                                  {"--pairs", [&] (const char* v) { pairs = std::max(2, std::atoi(v)); }},
+                                  {"--block-seconds", [&] (const char* v) { blockSeconds = std::atof(v); }}}))
+        return 2;
     printf("Positively split Ewald mobility, blobs of radius %g nm at volume fraction %g in a cube; %d thread(s); %d alternating pairs of %g s blocks\n",
            Radius, VolumeFraction, numThreads(), pairs, blockSeconds);
     printf("%7s %7s %6s %4s %3s %10s %8s %14s %8s %14s %8s %9s %9s %9s %16s %16s %9s\n", "blobs", "epsilon", "xi", "grid", "P", "pairs", "setup s",

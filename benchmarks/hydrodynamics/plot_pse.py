@@ -20,18 +20,41 @@ def number(row, name):
         return math.nan
 
 
+def read_rows(script):
+    """The rows of the CSV named by the first argument (the second names the PNG to write)."""
+    if len(sys.argv) != 3:
+        sys.exit(f"usage: {script} results.csv results.png")
+    with open(sys.argv[1], newline="", encoding='utf-8') as f:
+        rows = list(csv.DictReader(f))
+    if not rows:
+        sys.exit(f"{sys.argv[1]} holds no measurements")
+    return rows
+
+
+def log_axes(axes, xlabel, ylabel, title):
+    """Log-log axes with their labels, a grid and a legend."""
+    axes.set_xscale("log")
+    axes.set_yscale("log")
+    axes.set_xlabel(xlabel)
+    axes.set_ylabel(ylabel)
+    axes.set_title(title)
+    axes.grid(True, which="both", alpha=0.3)
+    axes.legend(fontsize=7)
+
+
+def save(fig, path):
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    print(f"wrote {path}")
+
+
 def series(rows, epsilon, name):
     points = [(number(r, "blobs"), number(r, name)) for r in rows if number(r, "epsilon") == epsilon]
     return [p for p in points if not math.isnan(p[1])]
 
 
 def main():
-    if len(sys.argv) != 3:
-        sys.exit("usage: plot_pse.py results.csv results.png")
-    with open(sys.argv[1], newline="", encoding='utf-8') as f:
-        rows = list(csv.DictReader(f))
-    if not rows:
-        sys.exit(f"{sys.argv[1]} holds no measurements")
+    rows = read_rows("plot_pse.py")
     threads = rows[0].get("threads", "?")
     tolerances = sorted({number(r, "epsilon") for r in rows}, reverse=True)
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
@@ -47,23 +70,9 @@ def main():
         points = series(rows, epsilon, "peer_peak_mib")
         if points:
             right.plot(*zip(*points), "^--", label=f"PSE and dense alive, ε = {epsilon:g}")
-    left.set_xscale("log")
-    left.set_yscale("log")
-    left.set_xlabel("blobs (5% volume fraction)")
-    left.set_ylabel("milliseconds")
-    left.set_title(f"Periodic RPY mobility ({threads} threads)")
-    left.grid(True, which="both", alpha=0.3)
-    left.legend(fontsize=7)
-    right.set_xscale("log")
-    right.set_yscale("log")
-    right.set_xlabel("blobs")
-    right.set_ylabel("peak resident memory (MiB)")
-    right.set_title("Peak memory of the measuring process")
-    right.grid(True, which="both", alpha=0.3)
-    right.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(sys.argv[2], dpi=120)
-    print(f"wrote {sys.argv[2]}")
+    log_axes(left, "blobs (5% volume fraction)", "milliseconds", f"Periodic RPY mobility ({threads} threads)")
+    log_axes(right, "blobs", "peak resident memory (MiB)", "Peak memory of the measuring process")
+    save(fig, sys.argv[2])
 
 
 if __name__ == "__main__":

@@ -50,6 +50,19 @@ BeadResistanceKernel chooseKernel(BeadHydrodynamics::Kernel kernel) {
 
 } // namespace
 
+bool BeadHydrodynamics::choleskyInPlace(int n, double* lower, int numThreads) {
+    CholeskyKernel kernel = rigidLangevinCholeskyGeneric;
+#ifdef RIGIDLANGEVIN_HAVE_AVX2_KERNEL
+    if (isAVX2KernelAvailable())
+        kernel = rigidLangevinCholeskyAVX2;
+#endif
+    const int result = kernel(n, lower, numThreads);
+    if (result == BEAD_KERNEL_OUT_OF_MEMORY)
+        throw OpenMMException("BeadHydrodynamics::choleskyInPlace: the factorisation of a "+std::to_string(n)+" x "+std::to_string(n)+
+                              " matrix ran out of memory");
+    return result == BEAD_KERNEL_CHOLESKY;
+}
+
 int BeadHydrodynamics::getNumThreads() {
     const char* setting = std::getenv("OPENMM_CPU_THREADS");
     if (setting != nullptr) {

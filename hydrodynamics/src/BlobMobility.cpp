@@ -3,6 +3,7 @@
 #include "internal/PeriodicRotnePragerYamakawa.h"
 #include "internal/RotnePragerBlake.h"
 #include "openmm/OpenMMException.h"
+#include <algorithm>
 #include <cmath>
 
 using namespace RigidLangevinPlugin;
@@ -29,19 +30,38 @@ void HostBlobMobility::setBlobs(const std::vector<OpenMM::Vec3>& positions, cons
     this->radii = radii;
     if (boxVectors != NULL)
         stored = PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii, parallel);
-    else if ((int) positions.size() > maxStoredBlobs)
+    else if ((int) positions.size() > (wall ? maxStoredBlobs : std::min(maxStoredBlobs, MaxStoredUnboundedBlobs)))
         stored.resize(0, 0);
     else if (wall)
         stored = RotnePragerBlake::mobilityMatrix(positions, radii, wallZ, parallel);
     else
         stored = CoupledResistanceMath::mobilityMatrix(positions, radii, parallel);
+    if (stored.size() > 0)
+        fillUpperTriangle();
+    else if (!wall)
+        tiled.setBlobs(positions, radii);
+}
+
+void HostBlobMobility::fillUpperTriangle() {
+    // Column j's part above the diagonal from row j's below it: each thread its own columns.
+    parallel(stored.cols(), [&] (int begin, int end) {
+        for (int j = begin; j < end; j++)
+            for (int i = 0; i < j; i++)
+                stored(i, j) = stored(j, i);
+    });
 }
 
 void HostBlobMobility::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out) {
-    if (stored.size() > 0)
-        out.noalias() = stored.selfadjointView<Eigen::Lower>()*f;
+    if (stored.size() > 0) {
+        // M is symmetric and stored whole: its rows [3 begin, 3 end) are those columns transposed,
+        // each thread's a contiguous block of memory.
+        out.resize(f.size());
+        parallel(positions.size(), [&] (int begin, int end) {
+            out.segment(3*begin, 3*(end-begin)).noalias() = stored.middleCols(3*begin, 3*(end-begin)).transpose()*f;
+        });
+    }
     else if (wall)
         RotnePragerBlake::mobilityProduct(positions, radii, wallZ, f, out, parallel);
     else
-        CoupledResistanceMath::mobilityProduct(positions, radii, f, out, parallel);
+        tiled.multiply(f, out, parallel);
 }

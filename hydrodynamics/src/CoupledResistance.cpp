@@ -5,10 +5,13 @@
 #include "internal/ResistanceMath.h"
 #include "internal/RotnePragerBlake.h"
 #include "internal/RotnePragerYamakawa.h"
+#include "beadkernel/ParallelFor.h"
 #include "openmm/OpenMMException.h"
+#include "openmm/internal/ThreadPool.h"
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
+#include <memory>
 #include <string>
 
 using namespace RigidLangevinPlugin;
@@ -20,6 +23,43 @@ using std::vector;
 namespace {
 
 typedef Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> Matrix;
+
+/** Blobs from which the dense resistance runs on threads: below, starting them costs more than they save. */
+const int ThreadedMinBlobs = 200;
+
+/** A ParallelFor on pool's threads (null: the calling thread), the range cut into chunks that the
+ *  threads take as they become free (the rows of a lower triangle are unequal work). */
+KrylovSolvers::ParallelFor poolRanges(OpenMM::ThreadPool* pool) {
+    return [pool] (int count, const std::function<void (int, int)>& task) {
+        const int chunks = (pool == nullptr ? 1 : std::min(count, 8*pool->getNumThreads()));
+        parallelFor(pool, chunks, [&] (Eigen::Index c) { task((int) ((long long) count*c/chunks), (int) ((long long) count*(c+1)/chunks)); });
+    };
+}
+
+/**
+ * R = (L^-1 K)^T (L^-1 K) for L the Cholesky factor in factor's lower triangle, symmetric by
+ * construction: the triangular solve and R's lower triangle in bands of columns on pool's threads
+ * (Eigen's own run on one), the widest of R's bands first. K's column j is zero above row
+ * start[j] (its body's first blob), and so is L^-1's product with it: each band's solve and
+ * product skip those rows (with bodies in order, a third of the solve's work and less of R's).
+ */
+Eigen::MatrixXd squareOfSolved(const Eigen::MatrixXd& factor, Eigen::MatrixXd& k, const vector<Eigen::Index>& start, OpenMM::ThreadPool* pool) {
+    const Eigen::Index rows = k.rows(), n = k.cols(), band = 48, bands = (n+band-1)/band;
+    vector<Eigen::Index> startFrom(n+1, rows);  // the smallest start[j] of the columns from j on
+    for (Eigen::Index j = n-1; j >= 0; j--)
+        startFrom[j] = std::min(start[j], startFrom[j+1]);
+    parallelFor(pool, bands, [&] (Eigen::Index c) {
+        const Eigen::Index first = c*band, width = std::min(band, n-first);
+        const Eigen::Index top = *std::min_element(start.begin()+first, start.begin()+first+width);
+        factor.block(top, top, rows-top, rows-top).triangularView<Eigen::Lower>().solveInPlace(k.block(top, first, rows-top, width));
+    });
+    Eigen::MatrixXd r(n, n);
+    parallelFor(pool, bands, [&] (Eigen::Index c) {
+        const Eigen::Index first = c*band, width = std::min(band, n-first), top = startFrom[first];
+        r.block(first, first, n-first, width).noalias() = k.block(top, first, rows-top, n-first).transpose()*k.block(top, first, rows-top, width);
+    });
+    return r.selfadjointView<Eigen::Lower>();
+}
 
 std::vector<double> toVector(const Matrix& m) {
     return std::vector<double>(m.data(), m.data()+m.size());
@@ -145,25 +185,26 @@ Eigen::MatrixXd CoupledResistanceMath::resistance(const std::string& caller, con
     validateBlobs(caller, positions, radii, owner, boxVectors, bodyNames, wallZ);
     const int numBlobs = positions.size();
     const int numBodies = origins.size();
+    // OPENMM_CPU_THREADS threads (BeadHydrodynamics::getNumThreads()) where there is work enough.
+    std::unique_ptr<OpenMM::ThreadPool> pool;
+    if (numBlobs >= ThreadedMinBlobs && BeadHydrodynamics::getNumThreads() > 1)
+        pool.reset(new OpenMM::ThreadPool(BeadHydrodynamics::getNumThreads()));
+    const KrylovSolvers::ParallelFor parallel = poolRanges(pool.get());
     // The lower triangle is enough.
-    Eigen::MatrixXd mobility = (boxVectors != NULL ? PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii) :
-                                wallZ ? RotnePragerBlake::mobilityMatrix(positions, radii, *wallZ) : mobilityMatrix(positions, radii));
-    // K: blob k of body b moves at V_b - skew(r_k - o_b) omega_b.
+    Eigen::MatrixXd mobility = (boxVectors != NULL ? PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii, parallel) :
+                                wallZ ? RotnePragerBlake::mobilityMatrix(positions, radii, *wallZ, parallel) : mobilityMatrix(positions, radii, parallel));
+    // K: blob k of body b moves at V_b - skew(r_k - o_b) omega_b; its body's columns start at its first blob.
     Eigen::MatrixXd k = Eigen::MatrixXd::Zero(3*numBlobs, 6*numBodies);
-    for (int i = 0; i < numBlobs; i++) {
+    vector<Eigen::Index> start(6*numBodies, 3*numBlobs);
+    for (int i = numBlobs-1; i >= 0; i--) {
         int b = owner[i];
         k.block<3, 3>(3*i, 6*b) = Eigen::Matrix3d::Identity();
         k.block<3, 3>(3*i, 6*b+3) = -skew(toEigen(positions[i]-origins[b]));
+        std::fill(start.begin()+6*b, start.begin()+6*b+6, 3*i);
     }
-    Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> cholesky(mobility);
-    if (cholesky.info() != Eigen::Success)
+    if (!BeadHydrodynamics::choleskyInPlace(mobility.rows(), mobility.data(), pool ? pool->getNumThreads() : 1))
         throw OpenMMException(caller+": the blobs' mobility matrix could not be factorised (look for nearly coincident blobs)");
-    // R = (L^-1 K)^T (L^-1 K): one triangular solve, and symmetric by construction.
-    Eigen::MatrixXd solved = cholesky.matrixL().solve(k);
-    Eigen::MatrixXd r(6*numBodies, 6*numBodies);
-    r.setZero();
-    r.selfadjointView<Eigen::Lower>().rankUpdate(solved.transpose());
-    return r.selfadjointView<Eigen::Lower>();
+    return squareOfSolved(mobility, k, start, pool.get());
 }
 
 Eigen::MatrixXd CoupledResistanceMath::mobilityMatrix(const vector<Vec3>& positions, const vector<double>& radii, const KrylovSolvers::ParallelFor& parallel) {

@@ -59,10 +59,28 @@ std::string KrylovSolvers::explain(const Result& result) {
     return "ended in an unknown way";
 }
 
-Result KrylovSolvers::conjugateGradient(const Operator& a, const Operator& preconditioner, const VectorXd& b, VectorXd& x, double tolerance, int maxIterations) {
+void KrylovSolvers::scaledStart(const Operator& a, const VectorXd& guess, const VectorXd& b, VectorXd& start, VectorXd& startProduct) {
+    start = VectorXd::Zero(b.size());
+    startProduct = VectorXd::Zero(b.size());
+    if (guess.size() != b.size() || guess.size() == 0)
+        return;
+    VectorXd product;
+    a(guess, product);
+    const double curvature = guess.dot(product), alpha = guess.dot(b)/curvature;
+    if (!(curvature > 0) || !std::isfinite(alpha))
+        return;
+    start = alpha*guess;
+    startProduct = alpha*product;
+}
+
+Result KrylovSolvers::conjugateGradient(const Operator& a, const Operator& preconditioner, const VectorXd& b, VectorXd& x, double tolerance, int maxIterations,
+                                        const VectorXd* startProduct) {
     Result report = {Converged, 0, tolerance, maxIterations, 0, 0, 0};
     const int n = b.size();
-    if (x.size() != n)
+    // From zero the start's product is zero: no product is spent on it.
+    const bool fromZero = (x.size() != n);
+    const bool productGiven = (startProduct != nullptr && startProduct->size() == n && !fromZero);
+    if (fromZero)
         x = VectorXd::Zero(n);
     const double bNorm = b.norm();
     if (!std::isfinite(bNorm)) {
@@ -74,7 +92,12 @@ Result KrylovSolvers::conjugateGradient(const Operator& a, const Operator& preco
         return report;
     }
     VectorXd r(n), z(n), p(n), ap(n);
-    a(x, ap);
+    if (productGiven)
+        ap = *startProduct;
+    else if (fromZero)
+        ap.setZero();
+    else
+        a(x, ap);
     r = b-ap;
     report.residual = r.norm()/bNorm;
     if (!std::isfinite(report.residual)) {

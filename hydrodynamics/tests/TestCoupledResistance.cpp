@@ -5,12 +5,15 @@
 #include "CoupledResistance.h"
 #include "ResistanceTensor.h"
 #include "ResistanceTestHelpers.h"
+#include "internal/CoupledResistanceMath.h"
 #include "internal/RotnePragerYamakawa.h"
 #include "internal/ShellModel.h"
 #include "openmm/OpenMMException.h"
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <cstdlib>
 #include <random>
+#include <string>
 
 using namespace RigidLangevinPlugin;
 using namespace ResistanceTestHelpers;
@@ -365,4 +368,51 @@ TEST(CoupledResistance, CalibrationGivesALoneBodyItsOwnTensor) {
     catch (const OpenMMException& e) {
         EXPECT_NE(std::string(e.what()).find("body 1"), std::string::npos) << e.what();
     }
+}
+
+TEST(CoupledResistance, IsTheSameOnAnyNumberOfThreads) {
+    // From 200 blobs the resistance runs on OPENMM_CPU_THREADS threads (M, its blocked Cholesky
+    // factorisation, the solve for K and R in parts fixed by the sizes alone): 1, 2 and 3 threads
+    // give the same bits, and they are Eigen's unblocked LLT's R (K^T M^-1 K) to rounding (a part
+    // left out or counted twice, or a band's rows skipped wrongly, changes R by far more).
+    std::mt19937 random(4);
+    std::uniform_real_distribution<double> uniform(0, 1);
+    vector<Vec3> positions;
+    vector<double> radii;
+    vector<int> owner;
+    vector<Vec3> origins;
+    for (int b = 0; b < 30; b++) {
+        const Vec3 centre(4*uniform(random), 4*uniform(random), 4*uniform(random));
+        origins.push_back(centre);
+        for (int k = 0; k < 8; k++) {
+            positions.push_back(centre+Vec3(0.3*(k%2), 0.3*((k/2)%2), 0.3*(k/4)));
+            radii.push_back(0.15+0.05*uniform(random));
+            owner.push_back(b);
+        }
+    }
+    const char* saved = std::getenv("OPENMM_CPU_THREADS");
+    const std::string previous = (saved == nullptr ? "" : saved);
+    vector<Eigen::MatrixXd> results;
+    for (const char* threads : {"1", "2", "3"}) {
+        setenv("OPENMM_CPU_THREADS", threads, 1);
+        results.push_back(CoupledResistanceMath::resistance("test", positions, radii, owner, origins));
+    }
+    if (saved == nullptr)
+        unsetenv("OPENMM_CPU_THREADS");
+    else
+        setenv("OPENMM_CPU_THREADS", previous.c_str(), 1);
+    for (int t = 1; t < 3; t++)
+        for (int i = 0; i < results[0].size(); i++)
+            ASSERT_EQ(results[0].data()[i], results[t].data()[i]) << t+1 << " threads, entry " << i;
+    Eigen::MatrixXd m = CoupledResistanceMath::mobilityMatrix(positions, radii).selfadjointView<Eigen::Lower>();
+    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(3*positions.size(), 6*origins.size());
+    for (int i = 0; i < (int) positions.size(); i++) {
+        const Vec3 d = positions[i]-origins[owner[i]];
+        Eigen::Matrix3d skew;
+        skew << 0, -d[2], d[1], d[2], 0, -d[0], -d[1], d[0], 0;
+        k.block<3, 3>(3*i, 6*owner[i]) = Eigen::Matrix3d::Identity();
+        k.block<3, 3>(3*i, 6*owner[i]+3) = -skew;
+    }
+    Eigen::MatrixXd exact = k.transpose()*m.llt().solve(k);
+    EXPECT_LT((results[0]-exact).norm(), 1e-12*exact.norm());
 }

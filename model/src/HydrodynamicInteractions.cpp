@@ -97,6 +97,15 @@ HydrodynamicInteractions::HydrodynamicInteractions(const RigidBodyModel& model, 
     }
 }
 
+void HydrodynamicInteractions::forgetWarmStart() const {
+    lastFrictionSolution.resize(0);
+}
+
+void HydrodynamicInteractions::setWarmStarts(bool warm) {
+    warmStarts = warm;
+    forgetWarmStart();
+}
+
 CoupledResistanceMath::BodyNames HydrodynamicInteractions::bodyNames() const {
     return [this] (int body) { return model.getBodyName(body); };
 }
@@ -307,8 +316,15 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
         applyK(back.cwiseQuotient(masses), forward);
         out = out/c+forward;
     };
+    // The friction's y changes little from step to step (the blobs move a little, z keeps part of u):
+    // start from the best multiple of the last step's (one product), or from zero after a checkpoint.
+    VectorXd startProduct;
+    KrylovSolvers::scaledStart(schur, lastFrictionSolution, rhs, y, startProduct);
     iterations.friction = checkHydrodynamicSolve("the conjugate gradients for the friction (on M/c + K M_b^-1 K^T, M the blobs' mobility)",
-                                     KrylovSolvers::conjugateGradient(schur, blockSolver(true), rhs, y, tolerance, maxIterations), numBodies, numBlobs);
+                                               KrylovSolvers::conjugateGradient(schur, blockSolver(true), rhs, y, tolerance, maxIterations, &startProduct),
+                                               numBodies, numBlobs);
+    if (warmStarts)
+        lastFrictionSolution = y;
     VectorXd back;
     applyKT(y, back);
     u = (z-back).cwiseQuotient(masses)-u;

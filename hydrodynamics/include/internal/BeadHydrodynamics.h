@@ -41,6 +41,15 @@ OPENMM_EXPORT_HYDRODYNAMICS int getNumThreads();
 /** Whether the AVX2 kernel was built and this CPU (and operating system) can run it. */
 OPENMM_EXPORT_HYDRODYNAMICS bool isAVX2KernelAvailable();
 
+/**
+ * The Cholesky factorisation A = L L^T in place in the lower triangle of the n x n column-major
+ * matrix lower (the strict upper triangle neither read nor written), by the kernel's blocked
+ * factorisation on numThreads threads, in its AVX2/FMA build where the CPU has it. The result
+ * does not depend on numThreads. Returns false if A is not numerically positive definite; throws
+ * an OpenMMException if it does not fit in memory.
+ */
+OPENMM_EXPORT_HYDRODYNAMICS bool choleskyInPlace(int n, double* lower, int numThreads);
+
 /** The name of bead i in messages (such as "blob 2 of body 1"); where none is given, "bead i". */
 typedef std::function<std::string (int bead)> BeadNames;
 

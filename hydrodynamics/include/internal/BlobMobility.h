@@ -3,6 +3,7 @@
 
 #include "openmm/Vec3.h"
 #include "internal/KrylovSolvers.h"
+#include "internal/TiledBlobProduct.h"
 #include "internal/windowsExportHydrodynamics.h"
 #include <Eigen/Core>
 #include <vector>
@@ -36,19 +37,28 @@ public:
 };
 
 /**
- * M on the host, in an unbounded solvent, a periodic box or above a wall (setWall()). Up to
- * MaxStoredBlobs blobs (or the constructor's maxStoredBlobs) setBlobs() forms M once (its lower triangle, 8 (3B)^2
- * bytes: 130 MB at the limit) and each product is a matrix-vector product, several times cheaper
- * than evaluating every pair's block again; beyond, every product evaluates the pairs
- * (matrix-free). Both share their rows out by parallel. In a periodic box M is always formed (the
- * dense Ewald sum of every pair's images and the wave-space sum, once per setBlobs(), shared out by
- * parallel), whatever the number of blobs; PositivelySplitEwald is the matrix-free periodic product.
- * Above a wall a pair's block costs about twice an unbounded one's (its image part), formed or
- * matrix-free alike.
+ * M on the host, in an unbounded solvent, a periodic box or above a wall (setWall()). Up to a
+ * limit setBlobs() forms M once (both triangles, 8 (3B)^2 bytes: 130 MB at 1350 blobs) and each
+ * product is a matrix-vector product, its rows shared out by parallel; beyond, every product
+ * evaluates the pairs again (matrix-free), its rows shared out by parallel too. The limit is
+ * MaxStoredBlobs (or the constructor's maxStoredBlobs) above a wall, and the smaller of that and
+ * MaxStoredUnboundedBlobs in an unbounded solvent, whose matrix-free product is TiledBlobProduct's
+ * (vectorised, 2.2-2.5 ns per pair per core on the development machine): measured there on two
+ * threads (benchmarks/hydrodynamics/README.md, benchmark_blob_product), the stored product takes
+ * 0.41 +- 0.01 of the tiled product's time at 300 blobs, 1.05 +- 0.02 at 600 and 1.22 +- 0.07 at
+ * 1000 (M no longer fits in the caches), and forming M costs about 25 tiled products at 600 blobs,
+ * where a step takes some 50 products. In a periodic box M is always formed (the dense
+ * Ewald sum of every pair's images and the wave-space sum, once per setBlobs(), shared out by
+ * parallel), whatever the number of blobs; PositivelySplitEwald is the matrix-free periodic
+ * product. Above a wall a pair's block costs about twice an unbounded one's (its image part),
+ * formed or matrix-free alike.
  */
 class OPENMM_EXPORT_HYDRODYNAMICS HostBlobMobility : public BlobMobility {
 public:
+    /** Up to how many blobs M is formed above a wall (by default). */
     static const int MaxStoredBlobs = 1350;
+    /** Up to how many blobs M is formed in an unbounded solvent (and at most maxStoredBlobs). */
+    static const int MaxStoredUnboundedBlobs = 500;
     /**
      * @param parallel        how rows are shared out among threads
      * @param maxStoredBlobs  up to how many blobs M is formed rather than applied matrix-free
@@ -66,7 +76,10 @@ private:
     double wallZ;
     std::vector<OpenMM::Vec3> positions;
     std::vector<double> radii;
-    Eigen::MatrixXd stored;  // empty when matrix-free
+    Eigen::MatrixXd stored;  // M, both triangles; empty when matrix-free
+    TiledBlobProduct tiled;  // the matrix-free product in an unbounded solvent
+    /** stored's upper triangle from its lower one, on the threads. */
+    void fillUpperTriangle();
 };
 
 } // namespace RigidLangevinPlugin

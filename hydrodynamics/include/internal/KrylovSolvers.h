@@ -72,12 +72,23 @@ OPENMM_EXPORT_HYDRODYNAMICS std::string explain(const Result& result);
 
 /**
  * Solve A x = b by conjugate gradients preconditioned by P (an approximation of A^-1, symmetric
- * positive definite), starting from x as given (resized to zero if its size differs), until
+ * positive definite), starting from x as given (from zero, without a product, if its size differs), until
  * |b - A x| <= tolerance |b|. Every step checks p^T A p > 0 and r^T P r > 0, which hold for
  * every direction if A and P are symmetric positive definite, and that both are finite.
+ * startProduct, if given, is A x for the x given (as scaledStart() returns it): one product fewer.
  */
 OPENMM_EXPORT_HYDRODYNAMICS Result conjugateGradient(const Operator& a, const Operator& preconditioner, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-                                                     double tolerance, int maxIterations);
+                                                     double tolerance, int maxIterations, const Eigen::VectorXd* startProduct = nullptr);
+
+/**
+ * A warm start for conjugate gradients on A x = b from a guess g (the solution of a similar solve,
+ * such as the last step's): start = alpha g, alpha = g^T b/(g^T A g), the multiple of g nearest the
+ * solution in A's norm, so never farther from it than zero is (alpha = 0 where g^T A g is not
+ * positive and finite, or g is empty or of another size). It handles a solution that changed sign or
+ * scale. One product with A (none for an unusable g); startProduct = A start, for conjugateGradient().
+ */
+OPENMM_EXPORT_HYDRODYNAMICS void scaledStart(const Operator& a, const Eigen::VectorXd& guess, const Eigen::VectorXd& b, Eigen::VectorXd& start,
+                                             Eigen::VectorXd& startProduct);
 
 /**
  * result = A^1/2 w by the Lanczos process: with V the orthonormal Krylov basis of A from w and T

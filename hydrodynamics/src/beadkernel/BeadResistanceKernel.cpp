@@ -14,6 +14,9 @@
 #ifndef RIGIDLANGEVIN_BEAD_KERNEL_ENTRY
 #error "RIGIDLANGEVIN_BEAD_KERNEL_ENTRY must name the entry point of this build of the kernel"
 #endif
+#ifndef RIGIDLANGEVIN_CHOLESKY_ENTRY
+#error "RIGIDLANGEVIN_CHOLESKY_ENTRY must name the Cholesky entry point of this build of the kernel"
+#endif
 
 // The AVX2 build hides every symbol (-fvisibility=hidden) but this one.
 #if defined(__GNUC__)
@@ -103,6 +106,19 @@ extern "C" BEAD_KERNEL_EXPORT int RIGIDLANGEVIN_BEAD_KERNEL_ENTRY(int numBeads, 
         Eigen::Matrix<double, 6, 6> xi = p.transpose()*ldlt.solve(p);
         store(0.5*(xi+xi.transpose()), resistance);
         return BEAD_KERNEL_LDLT;
+    }
+    catch (const std::bad_alloc&) {
+        return BEAD_KERNEL_OUT_OF_MEMORY;
+    }
+}
+
+extern "C" BEAD_KERNEL_EXPORT int RIGIDLANGEVIN_CHOLESKY_ENTRY(int n, double* lower, int numThreads) {
+    try {
+        std::unique_ptr<OpenMM::ThreadPool> pool;
+        if (numThreads > 1)
+            pool.reset(new OpenMM::ThreadPool(numThreads));
+        Eigen::Map<MatrixXd> a(lower, n, n);
+        return (RigidLangevinPlugin::parallelCholeskyInPlace(a, pool.get()) ? BEAD_KERNEL_CHOLESKY : BEAD_KERNEL_FAILED);
     }
     catch (const std::bad_alloc&) {
         return BEAD_KERNEL_OUT_OF_MEMORY;

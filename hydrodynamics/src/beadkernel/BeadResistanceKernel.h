@@ -6,7 +6,7 @@
  * baseline x86-64 into the RigidLangevin library, and with AVX2 and FMA into a small library of
  * its own (RigidLangevinBeadKernelAVX2) that exports nothing but its entry point, so that none of
  * its Eigen or standard-library code can stand in for the baseline copies on a machine without
- * AVX2. BeadResistance.cpp picks one at run time. The interface is plain C for the same reason.
+ * AVX2. BeadHydrodynamics.cpp picks one at run time. The interface is plain C for the same reason.
  */
 
 /** What a kernel call returns. */
@@ -44,6 +44,18 @@ int rigidLangevinBeadResistanceGeneric(int numBeads, const double* positions, co
 
 int rigidLangevinBeadResistanceAVX2(int numBeads, const double* positions, const double* radii,
                                     const double* origin, int numThreads, double* resistance);
+
+/**
+ * The Cholesky factorisation A = L L^T in place in the lower triangle of the n x n column-major
+ * matrix lower (its strict upper triangle neither read nor written), blocked, its updates shared
+ * among numThreads threads (parallelCholeskyInPlace). Returns BEAD_KERNEL_CHOLESKY,
+ * BEAD_KERNEL_FAILED where A is not numerically positive definite, or BEAD_KERNEL_OUT_OF_MEMORY.
+ */
+typedef int (*CholeskyKernel)(int n, double* lower, int numThreads);
+
+int rigidLangevinCholeskyGeneric(int n, double* lower, int numThreads);
+
+int rigidLangevinCholeskyAVX2(int n, double* lower, int numThreads);
 
 }
 

@@ -24,7 +24,7 @@ namespace RigidLangevinPlugin {
  * 256-1024 measured at n = 6000). The strict upper triangle is neither read nor written. Returns
  * false if a diagonal block is not positive definite, leaving a part-factorised.
  */
-inline bool parallelCholeskyInPlace(Eigen::MatrixXd& a, OpenMM::ThreadPool* pool, Eigen::Index blockSize = 256, Eigen::Index panelWidth = 512) {
+inline bool parallelCholeskyInPlace(Eigen::Ref<Eigen::MatrixXd> a, OpenMM::ThreadPool* pool, Eigen::Index blockSize = 256, Eigen::Index panelWidth = 512) {
     typedef Eigen::Index Index;
     const Index n = a.rows();
     for (Index k = 0; k < n; k += blockSize) {

@@ -87,6 +87,15 @@ public:
     KrylovIterations krylovFrictionStep(const std::vector<BodyState>& states, double viscosity, double kT, double h, const Eigen::VectorXd& normals,
                                         Eigen::VectorXd& u, double tolerance, int maxIterations, BlobMobility& mobility,
                                         const OpenMM::Vec3* boxVectors = NULL) const;
+    /**
+     * krylovFrictionStep()'s friction solve starts from the best multiple of the last one's solution
+     * (KrylovSolvers::scaledStart: fewer iterations, the same step to the tolerance). That solution is
+     * no part of a checkpoint: forget it (start the next solve from zero) wherever a run must repeat
+     * exactly from the states alone: when a checkpoint is written or loaded, and when states are set.
+     */
+    void forgetWarmStart() const;
+    /** Warm starts on (the default) or off, e.g. to measure what they save; forgets the last solution. */
+    void setWarmStarts(bool warm);
     /** The blobs' lab positions and radii, all bodies in order. */
     void placeBlobs(const std::vector<BodyState>& states, std::vector<OpenMM::Vec3>& positions, std::vector<double>& radii) const;
     /** The first of a body's coordinates (its active generalised coordinates follow, getNumDegreesOfFreedom() of them). */
@@ -120,6 +129,8 @@ private:
     std::vector<TypeBlobs> types;
     std::vector<int> firstCoordinate;
     Eigen::VectorXd masses;
+    bool warmStarts = true;
+    mutable Eigen::VectorXd lastFrictionSolution;  // the last friction solve's y (lab frame), empty when forgotten
 };
 
 /**

@@ -153,6 +153,9 @@ bool RigidLangevinStepKernelBase::kineticEnergyRequiresForce(const RigidLangevin
 void RigidLangevinStepKernelBase::stateChanged(ContextImpl& /*context*/, State::DataType changed) {
     if (changed != State::Positions && changed != State::Velocities)
         return;
+    // States set or loaded: the run continues from them alone (HydrodynamicInteractions::forgetWarmStart).
+    if (interactions)
+        interactions->forgetWarmStart();
     if (ignoreStateChanges) {
         // ContextImpl::loadCheckpoint() reports positions, then velocities, as changed after the
         // integrator restored its exact body states; the particles already match them.
@@ -369,6 +372,8 @@ void RigidLangevinStepKernelBase::restoreSavedBodies(ContextImpl& context, const
 // framed with a length and a CRC-32.
 
 void RigidLangevinStepKernelBase::createCheckpoint(ContextImpl& context, std::ostream& stream) {
+    if (interactions)
+        interactions->forgetWarmStart();  // as loadCheckpoint() will: both runs continue alike
     vector<BodyState> states;
     getBodyStates(context, states);
     std::ostringstream payload;
