@@ -81,7 +81,8 @@ def test_pip_install_into_a_fresh_environment(tmp_path):
     # no internal headers) and runs, built from another directory with the flags
     # `python -m rigidlangevin` prints, and with CMake's find_package(RigidLangevin).
     headers = sorted(str(h.relative_to(openmm_dir/'include'/'rigidlangevin')) for h in (openmm_dir/'include'/'rigidlangevin').rglob('*.h'))
-    assert headers == ['CoupledResistance.h', 'ResistanceTensor.h', 'RigidLangevinIntegrator.h', 'StickyDipoleForce.h', 'internal/windowsExportHydrodynamics.h',
+    assert headers == ['CoupledResistance.h', 'ResistanceTensor.h', 'RigidBodyIntegrator.h', 'RigidBrownianIntegrator.h', 'RigidLangevinIntegrator.h',
+                       'StickyDipoleForce.h', 'internal/windowsExportHydrodynamics.h',
                        'internal/windowsExportRigidLangevin.h'], headers
     flags = lambda *which: run([python, '-m', 'rigidlangevin', *which], cwd=elsewhere).split()
     assert pathlib.Path(run([python, '-m', 'rigidlangevin', '--prefix'], cwd=elsewhere).strip()) == openmm_dir
