@@ -225,7 +225,7 @@ def test_coupled_bodies_above_the_wall_step_with_their_mobility(name, solver):
 
 # --- Equilibrium above the wall: the drift keeps the Gibbs-Boltzmann heights ---
 
-def sedimented_system(count, radius, spacing, weight, repulsion, decay):
+def sedimented_system(count, radius, weight, repulsion, decay):
     """Spheres (one particle each) pulled down by their weight (kJ/mol/nm) and pushed off the wall by
     repulsion*exp(-(z - radius)/decay), as CustomExternalForces on their particles."""
     system = mm.System()
@@ -255,7 +255,7 @@ def equilibrium_heights(integrator_class, spheres=16, steps=60000, h=0.01, strid
     edges = np.array([0.0, 1.1, 1.2, 1.3, 1.45, 1.65, 10.0])*radius
     counts = []
     for sphere in range(spheres):
-        system = sedimented_system(1, radius, 0, weight, repulsion, decay)
+        system = sedimented_system(1, radius, weight, repulsion, decay)
         _, integrator, positions = sphere_layer(1, radius, 1.5*radius, 0, viscosity, h, integrator_class)
         integrator.setRandomNumberSeed(101+sphere)
         if integrator_class is rl.RigidLangevinIntegrator:
@@ -298,7 +298,7 @@ def test_langevin_sphere_above_the_wall_samples_gibbs_boltzmann_heights():
 
 def test_checkpoints_and_states_continue_exactly_and_the_reporter_writes(tmp_path):
     from openmm import app
-    system = sedimented_system(3, 1.0, 0, 4*KT, 4*KT, 0.1)
+    system = sedimented_system(3, 1.0, 4*KT, 4*KT, 0.1)
     _, integrator, positions = sphere_layer(3, 1.0, 1.5, 5.0, 1.0, 0.01)
     integrator.setHydrodynamicSolver(integrator.KrylovSolver)
     topology = app.Topology()
@@ -344,7 +344,7 @@ def test_a_body_through_the_wall_is_named():
 def test_a_step_that_crosses_the_wall_says_so():
     # The wall's own friction slows a body that nears it, so only a step far too large for the force
     # (here 16 radii for a sphere 1.5 radii up) puts it through.
-    system = sedimented_system(1, 1.0, 10.0, 1e5*KT, 0.0, 0.1)
+    system = sedimented_system(1, 1.0, 1e5*KT, 0.0, 0.1)
     _, integrator, positions = sphere_layer(1, 1.0, 1.5, 10.0, 1.0, 0.01)
     context = mm.Context(system, integrator, platform('Reference'))
     context.setPositions(positions)
