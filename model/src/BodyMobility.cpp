@@ -1,6 +1,9 @@
 #include "internal/BodyMobility.h"
 #include "internal/BodyDynamics.h"
 #include "openmm/OpenMMException.h"
+#include <algorithm>
+#include <cmath>
+#include <limits>
 
 using namespace RigidLangevinPlugin;
 using Eigen::VectorXd;
@@ -32,6 +35,36 @@ BodyMobility::BodyMobility(const HydrodynamicInteractions& interactions) : inter
         firstBlob.push_back(numBlobs);
         numBlobs += interactions.getTypeBlobVelocities(model.getBodyType(b)).rows()/3;
     }
+    // The saddle-point problem's scales (see scaling()): the smallest blob radius, and a blob's
+    // Stokes mobility per unit viscosity at that radius.
+    scaleLength = std::numeric_limits<double>::infinity();
+    for (int t = 0; t < model.getNumTypes(); t++) {
+        vector<Vec3> coords;
+        vector<double> radii;
+        model.getTypeBlobs(t, coords, radii);
+        for (double r : radii)
+            scaleLength = std::min(scaleLength, r);
+    }
+    scaleMobility = 1/(6*M_PI*scaleLength);
+}
+
+VectorXd BodyMobility::scaling(bool rows) const {
+    // The blob rows (velocities) and the coordinate rows (forces, torques) of the saddle-point
+    // problem differ by a mobility, torques from forces by a length: by about 1/(6 pi a) and a for
+    // blobs of radius a. GMRES stops on the norm of all rows together, so unscaled the blob rows
+    // would weigh 1/(6 pi a) as much as the forces: in colloid units (a of hundreds of nm) a
+    // solve to 1e-3 would stop once each body's forces balance, before the blobs' velocities felt
+    // the wall or the other bodies. Rows: blob rows / m0, torque rows / a; columns (unknowns):
+    // velocities * m0, angular velocities * m0/a, so that every entry is a force of order one.
+    const int blobs = 3*numBlobs;
+    VectorXd d(blobs+interactions.getNumCoordinates());
+    d.head(blobs).setConstant(rows ? 1/scaleMobility : 1.0);
+    for (int b = 0; b < model.getNumBodies(); b++) {
+        const int first = blobs+interactions.getFirstCoordinate(b), n = interactions.getTypeBlobVelocities(model.getBodyType(b)).cols();
+        d.segment(first, 3).setConstant(rows ? 1.0 : scaleMobility);
+        d.segment(first+3, n-3).setConstant(rows ? 1/scaleLength : scaleMobility/scaleLength);
+    }
+    return d;
 }
 
 void BodyMobility::factorize(const vector<BodyState>& states, const Vec3* box) {
@@ -111,12 +144,20 @@ int BodyMobility::solve(const vector<BodyState>& states, const VectorXd& g, cons
     VectorXd rhs(blobs+coordinates), x;
     rhs.head(blobs) = (slip.size() == 0 ? VectorXd(VectorXd::Zero(blobs)) : VectorXd(-slip));
     rhs.tail(coordinates) = -g;
-    KrylovSolvers::Operator product = [&] (const VectorXd& in, VectorXd& result) { saddleProduct(states, mobility, in, result); };
-    KrylovSolvers::Operator preconditioner = [&] (const VectorXd& in, VectorXd& result) { blockPreconditioner(states, in, result); };
+    // GMRES on the scaled problem (S_r A S_c) (S_c^-1 x) = S_r b, preconditioned by S_c^-1 P S_r^-1.
+    const VectorXd rows = scaling(true), columns = scaling(false);
+    KrylovSolvers::Operator product = [&] (const VectorXd& in, VectorXd& result) {
+        saddleProduct(states, mobility, VectorXd(columns.cwiseProduct(in)), result);
+        result = rows.cwiseProduct(result);
+    };
+    KrylovSolvers::Operator preconditioner = [&] (const VectorXd& in, VectorXd& result) {
+        blockPreconditioner(states, VectorXd(in.cwiseQuotient(rows)), result);
+        result = result.cwiseQuotient(columns);
+    };
     int iterations = checkHydrodynamicSolve("GMRES for the bodies' mobility (the saddle-point problem of their blobs)",
-                                            KrylovSolvers::gmres(product, preconditioner, rhs, x, tolerance, maxIterations),
+                                            KrylovSolvers::gmres(product, preconditioner, VectorXd(rows.cwiseProduct(rhs)), x, tolerance, maxIterations),
                                             model.getNumBodies(), numBlobs);
-    out = x.tail(coordinates);
+    out = columns.tail(coordinates).cwiseProduct(x.tail(coordinates));
     return iterations;
 }
 

@@ -64,6 +64,10 @@ private:
     int numBlobs;
     /** Per type: its own resistance from its blobs alone, K'^T M_bb^-1 K', factorised (the preconditioner's). */
     std::vector<Eigen::LLT<Eigen::MatrixXd> > ownResistance;
+    /** The saddle-point problem's length (the smallest blob radius, nm) and mobility (1/(6 pi a)). */
+    double scaleLength, scaleMobility;
+    /** The diagonal scaling of the saddle-point problem's rows (rows) or unknowns (columns). */
+    Eigen::VectorXd scaling(bool rows) const;
     Eigen::LLT<Eigen::MatrixXd> dense;
 };
 
