@@ -161,10 +161,39 @@ int BodyMobility::solve(const vector<BodyState>& states, const VectorXd& g, cons
     return iterations;
 }
 
+void BodyMobility::applyOwnFactor(const vector<BodyState>& states, const VectorXd& in, VectorXd& out, OwnFactor which) const {
+    // Body b's own blobs' mobility in the lab frame is Q M_b Q^T = (Q L_b)(Q L_b)^T, Q its rotation
+    // on every blob and L_b the Cholesky factor of M_b (its frame's, factorised once per type).
+    out.resize(in.size());
+    for (int b = 0; b < model.getNumBodies(); b++) {
+        const Eigen::LLT<Eigen::MatrixXd>& self = interactions.getTypeSelfMobility(model.getBodyType(b));
+        const int first = 3*firstBlob[b], size = self.rows();
+        const VectorXd segment = in.segment(first, size);
+        if (which == Factor)
+            out.segment(first, size) = turnBlobs(self.matrixL()*segment, states[b].rotation, false);
+        else if (which == Inverse)
+            out.segment(first, size) = self.matrixL().solve(turnBlobs(segment, states[b].rotation, true));
+        else
+            out.segment(first, size) = turnBlobs(self.matrixU().solve(segment), states[b].rotation, false);
+    }
+}
+
 int BodyMobility::blobNoise(const vector<BodyState>& states, const VectorXd& w, VectorXd& slip, double tolerance, int maxIterations,
                             BlobMobility& mobility, const Vec3* box) {
+    // Lanczos on L^-1 M L^-T, L every body's own blocks' factor (applyOwnFactor): close to the
+    // identity wherever a body's own blobs dominate its mobility, so it converges in a few
+    // iterations (RigidMultiblobsWall's preconditioning). slip = L (L^-1 M L^-T)^1/2 w has
+    // covariance M, as M^1/2 w has.
     placeBlobs(states, mobility, box);
-    KrylovSolvers::Operator product = [&] (const VectorXd& in, VectorXd& result) { mobility.multiply(in, result); };
-    return checkHydrodynamicSolve("the Lanczos square root of the blobs' mobility for the noise",
-                                  KrylovSolvers::lanczosSquareRoot(product, w, slip, tolerance, maxIterations), model.getNumBodies(), numBlobs);
+    KrylovSolvers::Operator product = [&] (const VectorXd& in, VectorXd& result) {
+        VectorXd spread, moved;
+        applyOwnFactor(states, in, spread, InverseTranspose);
+        mobility.multiply(spread, moved);
+        applyOwnFactor(states, moved, result, Inverse);
+    };
+    VectorXd root;
+    const int iterations = checkHydrodynamicSolve("the Lanczos square root of the blobs' mobility for the noise",
+                                                  KrylovSolvers::lanczosSquareRoot(product, w, root, tolerance, maxIterations), model.getNumBodies(), numBlobs);
+    applyOwnFactor(states, root, slip, Factor);
+    return iterations;
 }

@@ -28,7 +28,8 @@ namespace RigidLangevinPlugin {
  *     [ -K'^T  0 ] [   U    ] = [ -g ],    U = N (g + K'^T M^-1 s),
  *
  * solved by GMRES preconditioned by every body's own blocks (its blobs' M_bb and K'_b, exact per
- * body, factorised once per type), the slip s = M^1/2 w by Lanczos; every product with M is the
+ * body, factorised once per type), the slip s by Lanczos preconditioned by the same blocks
+ * (s = L (L^-1 M L^-T)^1/2 w, L L^T the blocks of M_bb: covariance M); every product with M is the
  * platform's (BlobMobility). A solve that fails throws, naming it, why and what to do.
  */
 class OPENMM_EXPORT_RIGIDLANGEVIN BodyMobility {
@@ -55,6 +56,9 @@ private:
     /** The saddle-point operator and its block preconditioner for the bodies in states. */
     void saddleProduct(const std::vector<BodyState>& states, BlobMobility& mobility, const Eigen::VectorXd& in, Eigen::VectorXd& out) const;
     void blockPreconditioner(const std::vector<BodyState>& states, const Eigen::VectorXd& in, Eigen::VectorXd& out) const;
+    /** Which of every body's own blocks' factor L (lab frame) applyOwnFactor() applies: L, L^-1 or L^-T. */
+    enum OwnFactor {Factor, Inverse, InverseTranspose};
+    void applyOwnFactor(const std::vector<BodyState>& states, const Eigen::VectorXd& in, Eigen::VectorXd& out, OwnFactor which) const;
     /** K' u (lab blob velocities) and K'^T f (generalised forces of lab blob forces). */
     void applyK(const std::vector<BodyState>& states, const Eigen::VectorXd& u, Eigen::VectorXd& out) const;
     void applyKT(const std::vector<BodyState>& states, const Eigen::VectorXd& f, Eigen::VectorXd& out) const;
