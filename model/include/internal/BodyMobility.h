@@ -50,6 +50,10 @@ public:
     /** Matrix-free: slip = M^1/2 w at these states (Lanczos), w three normals per blob; returns its iterations. */
     int blobNoise(const std::vector<BodyState>& states, const Eigen::VectorXd& w, Eigen::VectorXd& slip, double tolerance, int maxIterations,
                   BlobMobility& mobility, const OpenMM::Vec3* box);
+    /** The smallest radius of any body's blobs (nm): the length over which their mobility changes. */
+    double getSmallestBlobRadius() const {
+        return scaleLength;
+    }
 private:
     /** Set mobility's blobs from states (checked first), and the blob offsets of every body. */
     void placeBlobs(const std::vector<BodyState>& states, BlobMobility& mobility, const OpenMM::Vec3* box);

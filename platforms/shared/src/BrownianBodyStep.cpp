@@ -64,15 +64,7 @@ BrownianBodyStep::BrownianBodyStep(const RigidBodyModel& model, const Hydrodynam
     }
     if (interactions != NULL) {
         bodyMobility.reset(new BodyMobility(*interactions));
-        // The length over which the blobs' mobility changes: the smallest blob radius.
-        driftLength = std::numeric_limits<double>::infinity();
-        for (int t = 0; t < model.getNumTypes(); t++) {
-            vector<Vec3> coords;
-            vector<double> radii;
-            model.getTypeBlobs(t, coords, radii);
-            for (double r : radii)
-                driftLength = std::min(driftLength, r);
-        }
+        driftLength = bodyMobility->getSmallestBlobRadius();  // the length over which the blobs' mobility changes
     }
 }
 
