@@ -254,4 +254,5 @@ def main():
 
 
 if __name__ == '__main__':
+    sys.stdout.reconfigure(encoding='utf-8')  # its table carries ±
     main()
