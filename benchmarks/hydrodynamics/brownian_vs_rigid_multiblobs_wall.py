@@ -213,6 +213,8 @@ def plot(report, path):
         ax.errorbar(n, [pick(r)['mean_s'] for r in report['sizes']], [pick(r)['standard_error_s'] for r in report['sizes']], fmt=style, label=label, capsize=3)
     ax.set_xscale('log')
     ax.set_yscale('log')
+    ax.set_xticks(n, [str(k) for k in n])
+    ax.minorticks_off()
     ax.set_xlabel('boomerangs (15 blobs each) above the wall')
     ax.set_ylabel('seconds per Brownian step (2 threads)')
     ax.legend()
