@@ -22,8 +22,9 @@ The same scene is run twice:
   hydrodynamics then either, since the wall acts through the blobs' mobility (setWall() needs
   setHydrodynamicInteractions(True)); the wall's repulsion, a force, is still there.
 The statics are the same (hydrodynamics never change the Gibbs-Boltzmann density); the dynamics
-are not: near the wall a body moves up and down more slowly with interactions, so its heights
-decorrelate more slowly (the right panel). The step is not the same either: with the wall's
+are not: near the wall a body moves up and down more slowly with interactions (the right panel
+shows the heights' autocorrelation; the default 2-minute run is too short to resolve the
+difference, which needs runs of many correlation times). The step is not the same either: with the wall's
 hydrodynamics the blobs' mobility vanishes at contact and 0.01 s steps sample the density; without,
 a blob pressed against the glass moves as in bulk water, the stiff repulsion throws bodies up, and
 Euler-Maruyama's bias falls only linearly with the step: over 16 bodies the mean height is
