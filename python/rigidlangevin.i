@@ -152,7 +152,8 @@ public:
     enum HydrodynamicSolver {
         AutomaticSolver = 0,
         DenseSolver = 1,
-        KrylovSolver = 2
+        KrylovSolver = 2,
+        SpectralSolver = 3
     };
     double getTemperature() const;
     void setTemperature(double temp);

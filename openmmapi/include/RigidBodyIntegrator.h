@@ -235,8 +235,13 @@ public:
         AutomaticSolver = 0,
         /** Form and factorise the bodies' coupled resistance (Cholesky): cost (3B)^3/3 for B blobs. */
         DenseSolver = 1,
-        /** Matrix-free: conjugate gradients and Lanczos with products of the blobs' mobility. */
-        KrylovSolver = 2
+        /** Matrix-free: conjugate gradients and Lanczos with products of the blobs' mobility (in a
+         *  periodic box, the dense Ewald sum formed once a step: exact, but O(B^2) memory and time). */
+        KrylovSolver = 2,
+        /** As KrylovSolver, but in a periodic box the products are the positively split Ewald sum's
+         *  (PSE: matrix-free, linear cost and memory, at epsilon = setHydrodynamicTolerance(), which
+         *  must then be at least 1e-10); in an unbounded solvent or above a wall, KrylovSolver. */
+        SpectralSolver = 3
     };
     /**
      * Set how the coupled friction of hydrodynamic interactions is solved (the default is

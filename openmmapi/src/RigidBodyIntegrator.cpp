@@ -161,9 +161,9 @@ void RigidBodyIntegrator::setHydrodynamicInteractions(bool enabled) {
 }
 
 void RigidBodyIntegrator::setHydrodynamicSolver(HydrodynamicSolver solver) {
-    if (solver != AutomaticSolver && solver != DenseSolver && solver != KrylovSolver)
+    if (solver != AutomaticSolver && solver != DenseSolver && solver != KrylovSolver && solver != SpectralSolver)
         throw OpenMMException(className()+"::setHydrodynamicSolver: unknown solver "+std::to_string((int) solver)+
-                "; use AutomaticSolver (0), DenseSolver (1) or KrylovSolver (2)");
+                "; use AutomaticSolver (0), DenseSolver (1), KrylovSolver (2) or SpectralSolver (3)");
     hydrodynamicSolver = solver;
 }
 

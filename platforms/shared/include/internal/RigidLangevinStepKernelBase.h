@@ -6,6 +6,7 @@
 #include "internal/CoupledBodyStep.h"
 #include "internal/HydrodynamicInteractions.h"
 #include "internal/RigidBodyModel.h"
+#include "internal/SpectralBlobMobility.h"
 #include "internal/StepCoefficients.h"
 #include "internal/windowsExportRigidLangevin.h"
 #include <functional>
@@ -96,14 +97,27 @@ protected:
      */
     void advanceCoupledBodies(OpenMM::ContextImpl& context, const RigidBodyIntegrator& integrator);
     /**
-     * How this platform solves the coupled step of numBlobs blobs: as the integrator's hydrodynamic
-     * solver settings say, or, on every platform but Reference, as the environment variable
-     * RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER (dense or krylov; for the tests, which run both on small
-     * systems) overrides them. Throws on any other value of the variable.
+     * How this platform solves the coupled step of numBlobs blobs (in a periodic box if periodic):
+     * as the integrator's hydrodynamic solver settings say (AutomaticSolver: matrix-free from
+     * getKrylovMinBlobs() blobs, and in a periodic box spectral from SpectralMinBlobs), or, on every
+     * platform but Reference, as the environment variable RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER (dense,
+     * krylov or spectral; for the tests, which run each path on small systems) overrides them.
+     * Throws on any other value of the variable, and where the matrix-free step's dense Ewald sum
+     * (KrylovSolver in a periodic box) would exceed DenseEwaldMemoryBudget.
      */
-    CoupledSolve chooseCoupledSolve(const RigidBodyIntegrator& integrator, int numBlobs) const;
+    CoupledSolve chooseCoupledSolve(const RigidBodyIntegrator& integrator, int numBlobs, bool periodic) const;
+    /** The blobs' mobility products for a matrix-free step solved as solve says: the platform's (blobMobility()) or the spectral solver's. */
+    BlobMobility& stepMobility(const RigidBodyIntegrator& integrator, const CoupledSolve& solve);
     /** Each matrix-free solve's iteration limit: beyond it the step throws, naming the solve. */
     static const int KrylovMaxIterations = 1000;
+    /**
+     * From how many blobs AutomaticSolver takes the positively split Ewald products in a periodic box
+     * (when it is matrix-free at all): below, the dense Ewald sum formed once a step is the cheaper
+     * at the default tolerance (benchmarks/platforms/hydrodynamic_interactions.py, periodic rows).
+     */
+    static const int SpectralMinBlobs = 500;
+    /** The most bytes the matrix-free step's dense Ewald sum (KrylovSolver in a periodic box) may take: 4 GiB, 7700 blobs. */
+    static constexpr double DenseEwaldMemoryBudget = 4.0*1024*1024*1024;
     /**
      * The step of bodies coupled through the solvent (CoupledBodyStep), with the integrator's
      * settings and the System's periodic box: every platform takes this step, supplying the bodies'
@@ -130,6 +144,8 @@ protected:
     std::unique_ptr<CoupledBodyStep> coupledStep;
     /** The overdamped step, once RigidBrownianIntegrator has taken one. */
     std::unique_ptr<BrownianBodyStep> brownianStep;
+    /** The spectral solver's products, once it has been used. */
+    std::unique_ptr<SpectralBlobMobility> spectralMobility;
     int removerFrequency, removerIndex;
 private:
     void updateCoefficients(OpenMM::ContextImpl& context, const RigidBodyIntegrator& integrator);
