@@ -6,8 +6,8 @@
 using namespace RigidLangevinPlugin;
 using OpenMM::OpenMMException;
 
-SpectralBlobMobility::SpectralBlobMobility(const std::string& integratorName, const KrylovSolvers::ParallelFor& parallel) :
-        integratorName(integratorName), parallel(parallel) {
+SpectralBlobMobility::SpectralBlobMobility(const std::string& integratorName, const KrylovSolvers::ParallelFor& parallel, double memoryBudget) :
+        integratorName(integratorName), parallel(parallel), memoryBudget(memoryBudget) {
 }
 
 void SpectralBlobMobility::setTolerance(double tolerance) {
@@ -22,6 +22,7 @@ void SpectralBlobMobility::setTolerance(double tolerance) {
         throw OpenMMException(message.str());
     }
     product.reset(new PositivelySplitEwald(std::min(tolerance, PositivelySplitEwald::MaxTolerance), 0, parallel));
+    product->setMemoryBudget(memoryBudget);
 }
 
 void SpectralBlobMobility::setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors) {

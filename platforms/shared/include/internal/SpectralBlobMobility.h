@@ -27,8 +27,10 @@ public:
     /**
      * @param integratorName  the integrator's class name, for messages
      * @param parallel        the platform's threads
+     * @param memoryBudget    the most bytes the PSE may hold (PositivelySplitEwald::setMemoryBudget)
      */
-    SpectralBlobMobility(const std::string& integratorName, const KrylovSolvers::ParallelFor& parallel);
+    SpectralBlobMobility(const std::string& integratorName, const KrylovSolvers::ParallelFor& parallel,
+                         double memoryBudget = PositivelySplitEwald::DefaultMemoryBudget);
     /** The PSE's epsilon from now on: the integrator's hydrodynamic tolerance (throws if the PSE cannot reach it). */
     void setTolerance(double tolerance);
     void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors = NULL) override;
@@ -38,6 +40,7 @@ public:
 private:
     std::string integratorName;
     KrylovSolvers::ParallelFor parallel;
+    double memoryBudget;
     std::unique_ptr<PositivelySplitEwald> product;
 };
 
