@@ -122,7 +122,7 @@ CoupledSolve RigidLangevinStepKernelBase::chooseCoupledSolve(const RigidBodyInte
     else {
         int minBlobs = (integrator.getKrylovMinBlobs() >= 0 ? integrator.getKrylovMinBlobs() : platformMinBlobs);
         solve.krylov = (minBlobs >= 0 && numBlobs >= minBlobs);
-        solve.spectral = (solve.krylov && periodic && numBlobs >= SpectralMinBlobs);
+        solve.spectral = (solve.krylov && periodic && (numBlobs >= SpectralMinBlobs || solve.tolerance >= SpectralLooseTolerance));
     }
     // The dense Ewald sum of the matrix-free step: 8 (3B)^2 bytes, formed every step.
     const double denseBytes = 72.0*numBlobs*numBlobs;

@@ -99,7 +99,8 @@ protected:
     /**
      * How this platform solves the coupled step of numBlobs blobs (in a periodic box if periodic):
      * as the integrator's hydrodynamic solver settings say (AutomaticSolver: matrix-free from
-     * getKrylovMinBlobs() blobs, and in a periodic box spectral from SpectralMinBlobs), or, on every
+     * getKrylovMinBlobs() blobs, and in a periodic box spectral as SpectralMinBlobs and
+     * SpectralLooseTolerance say), or, on every
      * platform but Reference, as the environment variable RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER (dense,
      * krylov or spectral; for the tests, which run each path on small systems) overrides them.
      * Throws on any other value of the variable, and where the matrix-free step's dense Ewald sum
@@ -111,11 +112,15 @@ protected:
     /** Each matrix-free solve's iteration limit: beyond it the step throws, naming the solve. */
     static const int KrylovMaxIterations = 1000;
     /**
-     * From how many blobs AutomaticSolver takes the positively split Ewald products in a periodic box
-     * (when it is matrix-free at all): below, the dense Ewald sum formed once a step is the cheaper
-     * at the default tolerance (benchmarks/platforms/hydrodynamic_interactions.py, periodic rows).
+     * When AutomaticSolver takes the positively split Ewald products in a periodic box (if it is
+     * matrix-free at all): from SpectralMinBlobs blobs, or at any size at a tolerance of
+     * SpectralLooseTolerance or looser. Measured on the CPU platform (2 threads, one-blob spheres at
+     * 5% volume fraction; benchmarks/platforms/periodic_hydrodynamics.py): at tolerance 1e-10 the
+     * dense Ewald sum formed once a step is the cheaper at 300 blobs and the PSE from 1000; at 1e-6
+     * the PSE from 300, at 1e-5 and looser from 100.
      */
     static const int SpectralMinBlobs = 500;
+    static constexpr double SpectralLooseTolerance = 1e-5;
     /** The most bytes the matrix-free step's dense Ewald sum (KrylovSolver in a periodic box) may take: 4 GiB, 7700 blobs. */
     static constexpr double DenseEwaldMemoryBudget = 4.0*1024*1024*1024;
     /**
