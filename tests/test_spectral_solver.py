@@ -10,6 +10,7 @@ import openmm as mm
 import pytest
 
 import rigidlangevin as rl
+from test_hydrodynamics import assert_first_order_sedimentation
 
 KB = 0.0083144626181532
 
@@ -153,13 +154,7 @@ def test_a_suspension_of_4000_spheres_sediments_at_the_models_first_order_speed(
         moved = context.getState(getPositions=True).getPositions(asNumpy=True)._value-centres
         velocities.append(moved[:, 2].mean()/h/(force/(6*math.pi*viscosity*a)))
     assert integrator.getKrylovIterations()[2] > 0
-    mean, error = np.mean(velocities), np.std(velocities, ddof=1)/math.sqrt(len(velocities))
-    volume_fraction = (count-1)*4/3*math.pi*a**3/side**3
-    expected = 1-2.837297*a/side*(1-8*volume_fraction)-5*volume_fraction
-    print(f'\nsedimentation of {count} spheres at phi {volume_fraction:.4f}, a/L {a/side:.4f}: U/U0 {mean:.4f} +- {error:.4f}, '
-          f'RPY level {expected:.4f}, without the pairs {1-2.837297*a/side:.4f}')
-    assert 4*error < 2.5*volume_fraction  # a factor 2 in the 5 phi would show
-    assert abs(mean-expected) < 4*error
+    assert_first_order_sedimentation(velocities, count, a, side)
 
 
 def stepped_with(integrator, count, side, radius=0.5):
