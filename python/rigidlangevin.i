@@ -178,6 +178,8 @@ public:
     double getHydrodynamicTolerance() const;
     void setKrylovMinBlobs(int blobs);
     int getKrylovMinBlobs() const;
+    void setHydrodynamicMemoryBudget(double bytes);
+    double getHydrodynamicMemoryBudget() const;
     void setBodyBlobs(int index, const std::vector<Vec3>& blobPositions, const std::vector<double>& blobRadii,
                       const std::vector<Vec3>& referencePositions);
     void clearBodyBlobs(int index);

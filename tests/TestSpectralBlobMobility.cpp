@@ -72,7 +72,8 @@ TEST(SpectralBlobMobility, RefusalsNameTheIntegratorsSettings) {
     vector<double> radii;
     Vec3 box[3];
     randomBlobs(2000, 40.0, positions, radii, box);
-    SpectralBlobMobility spectral("RigidBrownianIntegrator", KrylovSolvers::sequentially, 1 << 20);
+    SpectralBlobMobility spectral("RigidBrownianIntegrator", KrylovSolvers::sequentially);
+    spectral.setMemoryBudget(1 << 20);
     std::string message = refusal([&] { spectral.setTolerance(1e-11); });
     EXPECT_NE(message.find("RigidBrownianIntegrator"), std::string::npos) << message;
     EXPECT_NE(message.find("setHydrodynamicTolerance() with at least 1e-10"), std::string::npos) << message;
@@ -80,6 +81,7 @@ TEST(SpectralBlobMobility, RefusalsNameTheIntegratorsSettings) {
     spectral.setTolerance(1e-6);
     message = refusal([&] { spectral.setBlobs(positions, radii, box); });
     EXPECT_NE(message.find("more than the memory budget of 0.0009766 GiB"), std::string::npos) << message;
+    EXPECT_NE(message.find("raise setHydrodynamicMemoryBudget()"), std::string::npos) << message;
     EXPECT_NE(message.find("loosen setHydrodynamicTolerance()"), std::string::npos) << message;
     // Blobs of radius 0.5 nm in a box 1.9 nm wide: no real-space cutoff fits.
     randomBlobs(4, 1.9, positions, radii, box);

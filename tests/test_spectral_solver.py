@@ -4,6 +4,7 @@ Its step equals the dense Ewald sum's to the tolerance; it keeps the Maxwell dis
 suspension of thousands of spheres sediments at the model's first-order speed; and what it cannot
 do is refused naming the setting to change."""
 import math
+import re
 
 import numpy as np
 import openmm as mm
@@ -187,9 +188,35 @@ def test_a_box_too_small_for_the_blobs_is_refused():
         stepped_with(integrator, 2, 1.8)
 
 
-def test_the_dense_ewald_sum_beyond_its_memory_budget_is_refused():
+def test_a_step_beyond_the_memory_budget_is_refused():
     # 7800 blobs: 72 B^2 = 4.1 GiB for the matrix-free step's dense Ewald sum; refused before anything is formed.
     integrator = langevin()
     integrator.setHydrodynamicSolver(integrator.KrylovSolver)
-    with pytest.raises(mm.OpenMMException, match=r'more than its budget of 4096 MiB: call setHydrodynamicSolver\(SpectralSolver\)'):
+    with pytest.raises(mm.OpenMMException, match=r'more than the budget of 4096 MiB \(setHydrodynamicMemoryBudget\(\)\): call '
+                                                 r'setHydrodynamicSolver\(SpectralSolver\)'):
         stepped_with(integrator, 7800, 40.0)
+    # A budget set lower: 100 blobs' 0.7 MB refused under 0.5 MB; the spectral solver's grid likewise.
+    integrator = langevin()
+    integrator.setHydrodynamicSolver(integrator.KrylovSolver)
+    integrator.setHydrodynamicMemoryBudget(5e5)
+    with pytest.raises(mm.OpenMMException, match='more than the budget of 0 MiB'):
+        stepped_with(integrator, 100, 12.0)
+    integrator = langevin()
+    integrator.setHydrodynamicSolver(integrator.SpectralSolver)
+    integrator.setHydrodynamicMemoryBudget(1e5)
+    with pytest.raises(mm.OpenMMException, match=r'memory budget.*raise setHydrodynamicMemoryBudget\(\)'):
+        stepped_with(integrator, 100, 12.0)
+
+
+def test_the_memory_budget_is_a_serialized_setting():
+    integrator = rl.RigidBrownianIntegrator(300, 1.0, 0.002)
+    assert integrator.getHydrodynamicMemoryBudget() == 4*2**30
+    integrator.setHydrodynamicMemoryBudget(2.5e9)
+    xml = mm.XmlSerializer.serialize(integrator)
+    assert rl.RigidBrownianIntegrator.cast(mm.XmlSerializer.deserialize(xml)).getHydrodynamicMemoryBudget() == 2.5e9
+    # Written before the setting existed (the same version): read with the default.
+    older = re.sub(r' hydrodynamicMemoryBudget="[^"]*"', '', xml)
+    assert older != xml and rl.RigidBrownianIntegrator.cast(mm.XmlSerializer.deserialize(older)).getHydrodynamicMemoryBudget() == 4*2**30
+    for bad in (0.0, -1.0, float('inf'), float('nan')):
+        with pytest.raises(mm.OpenMMException, match='setHydrodynamicMemoryBudget'):
+            integrator.setHydrodynamicMemoryBudget(bad)

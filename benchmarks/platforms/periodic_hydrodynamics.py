@@ -11,19 +11,21 @@ RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER before each block), at each --tolerances (the 
 tolerance and the PSE's epsilon).
 
     python benchmarks/platforms/periodic_hydrodynamics.py [--quick] [--sizes 100 300 1000 3000 10000]
-        [--tolerances 1e-3 1e-6] [--max-dense-blobs 1000] [--pairs 2] [--name periodic_hydrodynamics]
+        [--tolerances 1e-3 1e-6] [--max-dense-blobs 1000] [--pairs 2] [--name periodic_hydrodynamics] [--replot]
 
-Memory: each mode's Context is made, and its first step taken, with the process's peak resident
-set reset just before (Linux: /proc/self/clear_refs); 'peak MiB' is the peak during that above
-the resident set before it (the Context's own memory and the step's, the PSE's grid and pairs or
-the dense sum included). Writes results/<name>.csv and .png: ms per step (mean of the pairs +- its
+Memory: each mode runs once more in a child process of its own (--memory-probe: the scene, the
+Context, one step); 'peak MiB' is that process's peak resident set (Linux VmHWM) above the peak of
+the same probe without interactions (the PSE's grid and pairs, or the dense sum, and the solves'
+vectors). Writes results/<name>.csv and .png: ms per step (mean of the pairs +- its
 standard error), the ratio to no interactions, the spectral step's speed-up over the dense Ewald
 one (pair by pair), peak MiB, and the Krylov iterations of the last step (Lanczos, the noise's and
 the friction's conjugate gradients). The table is written again after each size.
 """
 import argparse
+import csv
 import math
 import os
+import subprocess
 import sys
 import time
 
@@ -82,13 +84,29 @@ def scene(count, volume_fraction=0.05, seed=1):
     return system, integrator, np.array(positions)
 
 
-def resident_mib(field):
-    """VmRSS or VmHWM of this process (MiB)."""
+def peak_resident_mib():
+    """This process's peak resident set (Linux VmHWM, MiB)."""
     with open('/proc/self/status', encoding='ascii') as f:
         for line in f:
-            if line.startswith(field+':'):
+            if line.startswith('VmHWM:'):
                 return int(line.split()[1])/1024
     return float('nan')
+
+
+def memory_probe(count, tolerance, mode):
+    """In this process: the scene, mode's Context and one step; print the peak resident MiB."""
+    solver(MODES[mode])()
+    system, make_integrator, positions = scene(count)
+    integrator = make_integrator(mode != 'off', tolerance)
+    running_context(system, integrator, positions, 'CPU', {}, warmup_steps=1)
+    print(f'peak {peak_resident_mib():.6g}')
+
+
+def probed_peak_mib(count, tolerance, mode):
+    """The peak resident MiB of memory_probe() in a child process."""
+    result = subprocess.run([sys.executable, os.path.abspath(__file__), '--memory-probe', str(count), repr(tolerance), mode],
+                            capture_output=True, encoding='utf-8', check=True)
+    return float(result.stdout.split('peak ')[-1])
 
 
 def solver(name):
@@ -104,17 +122,15 @@ def measure(count, tolerance, pairs, max_dense_blobs):
     """The rows of one size and tolerance."""
     system, make_integrator, positions = scene(count)
     modes = [m for m in MODES if m != 'dense Ewald' or count <= max_dense_blobs]
-    contexts, prepare, peak = {}, {}, {}
+    contexts, prepare = {}, {}
     for mode in modes:
         prepare[mode] = solver(MODES[mode])
         prepare[mode]()
         integrator = make_integrator(mode != 'off', tolerance)
-        with open('/proc/self/clear_refs', 'w', encoding='ascii') as f:
-            f.write('5')  # reset the peak resident set (VmHWM) to the current one
-        before = resident_mib('VmRSS')
         contexts[mode] = (integrator, running_context(system, integrator, positions, 'CPU', {}, warmup_steps=1))
-        peak[mode] = resident_mib('VmHWM')-before
     times = paired_times(contexts, 1, pairs=pairs, prepare=prepare)
+    os.environ.pop('RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER', None)
+    peak = {mode: probed_peak_mib(count, tolerance, mode) for mode in modes}
     rows = []
     for mode in modes:
         integrator = contexts[mode][0]
@@ -122,13 +138,12 @@ def measure(count, tolerance, pairs, max_dense_blobs):
         mean, error = mean_and_error(np.array(times[mode])*1e3)
         ratio, ratio_error = mean_and_error(np.array(times[mode])/np.array(times['off']))
         row = {'blobs': count, 'tolerance': f'{tolerance:g}', 'solver': mode, 'ms_per_step': f'{mean:.4g}', 'ms_error': f'{error:.2g}',
-               'ratio_to_off': f'{ratio:.4g}', 'ratio_error': f'{ratio_error:.2g}', 'peak_mib': f'{peak[mode]:.4g}',
+               'ratio_to_off': f'{ratio:.4g}', 'ratio_error': f'{ratio_error:.2g}', 'peak_mib': f'{peak[mode]-peak["off"]:.4g}',
                'lanczos': iterations[0], 'noise_cg': iterations[1], 'friction_cg': iterations[2]}
         if mode == 'spectral' and 'dense Ewald' in times:
             speedup, speedup_error = mean_and_error(np.array(times['dense Ewald'])/np.array(times['spectral']))
             row.update(speedup_over_dense=f'{speedup:.4g}', speedup_error=f'{speedup_error:.2g}')
         rows.append(row)
-    os.environ.pop('RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER', None)
     return rows
 
 
@@ -138,15 +153,16 @@ def plot(rows, name):
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
     fig, (time_axis, memory_axis) = plt.subplots(1, 2, figsize=(10, 4.5))
-    for tolerance in sorted({r['tolerance'] for r in rows}, key=float):
-        for mode, marker in (('spectral', 'o'), ('dense Ewald', 's')):
+    for colour, tolerance in enumerate(sorted({r['tolerance'] for r in rows}, key=float)):
+        for mode, marker, line in (('spectral', 'o', '-'), ('dense Ewald', 's', '--')):
             points = sorted((int(r['blobs']), float(r['ms_per_step'])/1e3, float(r['ms_error'])/1e3, float(r['peak_mib']))
                             for r in rows if r['solver'] == mode and r['tolerance'] == tolerance)
             if points:
                 x, y, e, m = zip(*points)
-                time_axis.errorbar(x, y, yerr=e, marker=marker, label=f'{mode}, tolerance {tolerance}')
-                memory_axis.plot(x, m, marker=marker, label=f'{mode}, tolerance {tolerance}')
-    for axis, label in ((time_axis, 's per step (CPU platform)'), (memory_axis, 'peak MiB of the Context and its first step')):
+                style = dict(marker=marker, linestyle=line, color=f'C{colour}', label=f'{mode}, tolerance {tolerance}')
+                time_axis.errorbar(x, y, yerr=e, **style)
+                memory_axis.plot(x, m, **style)
+    for axis, label in ((time_axis, 's per step (CPU platform)'), (memory_axis, 'peak MiB above no interactions (a child process)')):
         axis.set_xscale('log')
         axis.set_yscale('log')
         axis.set_xlabel('blobs (one-blob spheres, 5% volume fraction)')
@@ -167,7 +183,16 @@ def main():
     parser.add_argument('--max-dense-blobs', type=int, default=1000)
     parser.add_argument('--pairs', type=int, default=2)
     parser.add_argument('--name', default='periodic_hydrodynamics')
+    parser.add_argument('--replot', action='store_true', help='only draw results/<name>.png again from results/<name>.csv')
+    parser.add_argument('--memory-probe', nargs=3, metavar=('BLOBS', 'TOLERANCE', 'MODE'), help=argparse.SUPPRESS)
     args = parser.parse_args()
+    if args.memory_probe:
+        memory_probe(int(args.memory_probe[0]), float(args.memory_probe[1]), args.memory_probe[2])
+        return
+    if args.replot:
+        with open(os.path.join(benchmark_utils.RESULTS, args.name+'.csv'), encoding='utf-8') as f:
+            plot(list(csv.DictReader(f)), args.name)
+        return
     if args.quick:
         args.sizes, args.tolerances, args.pairs = [100, 300], [1e-3], 2
     rows = []

@@ -287,6 +287,18 @@ public:
         return krylovMinBlobs;
     }
     /**
+     * Set the most memory (bytes) the matrix-free step's products of the blobs' mobility may hold in
+     * a periodic box: the spectral solver's positively split Ewald grid and real-space pairs, and
+     * KrylovSolver's dense Ewald sum (72 B^2 bytes for B blobs). A step that would need more is
+     * refused, before anything large is allocated, with a message giving the bytes it needs. The
+     * default is 4 GiB. Takes effect at the next step.
+     */
+    void setHydrodynamicMemoryBudget(double bytes);
+    /** Get the most memory (bytes) the matrix-free step's periodic products may hold (setHydrodynamicMemoryBudget()). */
+    double getHydrodynamicMemoryBudget() const {
+        return hydrodynamicMemoryBudget;
+    }
+    /**
      * Give a body the hydrodynamic blobs through which it feels other bodies when hydrodynamic
      * interactions are on (setHydrodynamicInteractions()), replacing its particles with a radius.
      * Like an explicit tensor, the blobs belong to the body's shape: they are given together with
@@ -429,6 +441,7 @@ private:
     HydrodynamicSolver hydrodynamicSolver;
     double hydrodynamicTolerance;
     int krylovMinBlobs;
+    double hydrodynamicMemoryBudget;
     bool wall;
     double wallHeight;
     std::vector<std::vector<int> > bodies;

@@ -126,11 +126,12 @@ CoupledSolve RigidLangevinStepKernelBase::chooseCoupledSolve(const RigidBodyInte
     }
     // The dense Ewald sum of the matrix-free step: 8 (3B)^2 bytes, formed every step.
     const double denseBytes = 72.0*numBlobs*numBlobs;
-    if (solve.krylov && periodic && !solve.spectral && denseBytes > DenseEwaldMemoryBudget)
+    const double budget = integrator.getHydrodynamicMemoryBudget();
+    if (solve.krylov && periodic && !solve.spectral && denseBytes > budget)
         throw OpenMMException(integratorName(integrator)+": the matrix-free solver in a periodic box with the dense Ewald sum (KrylovSolver) forms "
-                "the blobs' mobility every step, "+std::to_string((int) (denseBytes/(1<<20)))+" MiB for "+std::to_string(numBlobs)+
-                " blobs, more than its budget of "+std::to_string((int) (DenseEwaldMemoryBudget/(1<<20)))+" MiB: call "
-                "setHydrodynamicSolver(SpectralSolver) (the positively split Ewald sum, linear memory) or AutomaticSolver");
+                "the blobs' mobility every step, "+std::to_string((long long) (denseBytes/(1<<20)))+" MiB for "+std::to_string(numBlobs)+
+                " blobs, more than the budget of "+std::to_string((long long) (budget/(1<<20)))+" MiB (setHydrodynamicMemoryBudget()): call "
+                "setHydrodynamicSolver(SpectralSolver) (the positively split Ewald sum, linear memory) or AutomaticSolver, or raise the budget");
     return solve;
 }
 
@@ -141,6 +142,7 @@ BlobMobility& RigidLangevinStepKernelBase::stepMobility(const RigidBodyIntegrato
         spectralMobility.reset(new SpectralBlobMobility(integratorName(integrator),
                 [this] (int count, const std::function<void (int, int)>& task) { parallelFor(count, task); }));
     spectralMobility->setTolerance(solve.tolerance);
+    spectralMobility->setMemoryBudget(integrator.getHydrodynamicMemoryBudget());
     return *spectralMobility;
 }
 

@@ -6,8 +6,14 @@
 using namespace RigidLangevinPlugin;
 using OpenMM::OpenMMException;
 
-SpectralBlobMobility::SpectralBlobMobility(const std::string& integratorName, const KrylovSolvers::ParallelFor& parallel, double memoryBudget) :
-        integratorName(integratorName), parallel(parallel), memoryBudget(memoryBudget) {
+SpectralBlobMobility::SpectralBlobMobility(const std::string& integratorName, const KrylovSolvers::ParallelFor& parallel) :
+        integratorName(integratorName), parallel(parallel), memoryBudget(PositivelySplitEwald::DefaultMemoryBudget) {
+}
+
+void SpectralBlobMobility::setMemoryBudget(double bytes) {
+    memoryBudget = bytes;
+    if (product)
+        product->setMemoryBudget(bytes);
 }
 
 void SpectralBlobMobility::setTolerance(double tolerance) {
@@ -33,8 +39,9 @@ void SpectralBlobMobility::setBlobs(const std::vector<OpenMM::Vec3>& positions, 
     }
     catch (const OpenMMException& e) {
         throw OpenMMException(integratorName+": the spectral solver (setHydrodynamicSolver()) cannot take these blobs. "+e.what()+
-                ". From the integrator: loosen setHydrodynamicTolerance() (epsilon; a coarser grid and fewer real-space pairs), use fewer blobs or "
-                "a bigger box, or another solver (DenseSolver or KrylovSolver: the dense Ewald sum, O(B^2) memory)");
+                ". From the integrator: raise setHydrodynamicMemoryBudget() (the budget), loosen setHydrodynamicTolerance() (epsilon: a coarser grid "
+                "and fewer real-space pairs), use fewer blobs or a bigger box, or another solver (DenseSolver or KrylovSolver: the dense Ewald "
+                "sum, O(B^2) memory)");
     }
 }
 

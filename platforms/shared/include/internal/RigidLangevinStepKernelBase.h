@@ -104,7 +104,7 @@ protected:
      * platform but Reference, as the environment variable RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER (dense,
      * krylov or spectral; for the tests, which run each path on small systems) overrides them.
      * Throws on any other value of the variable, and where the matrix-free step's dense Ewald sum
-     * (KrylovSolver in a periodic box) would exceed DenseEwaldMemoryBudget.
+     * (KrylovSolver in a periodic box) would exceed the integrator's setHydrodynamicMemoryBudget().
      */
     CoupledSolve chooseCoupledSolve(const RigidBodyIntegrator& integrator, int numBlobs, bool periodic) const;
     /** The blobs' mobility products for a matrix-free step solved as solve says: the platform's (blobMobility()) or the spectral solver's. */
@@ -121,8 +121,6 @@ protected:
      */
     static const int SpectralMinBlobs = 500;
     static constexpr double SpectralLooseTolerance = 1e-5;
-    /** The most bytes the matrix-free step's dense Ewald sum (KrylovSolver in a periodic box) may take: 4 GiB, 7700 blobs. */
-    static constexpr double DenseEwaldMemoryBudget = 4.0*1024*1024*1024;
     /**
      * The step of bodies coupled through the solvent (CoupledBodyStep), with the integrator's
      * settings and the System's periodic box: every platform takes this step, supplying the bodies'

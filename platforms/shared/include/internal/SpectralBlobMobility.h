@@ -19,20 +19,21 @@ namespace RigidLangevinPlugin {
  * residual at which the Krylov solves stop, and the solves converge on the PSE operator (linear,
  * symmetric, positive definite) as on the dense one. A tolerance below
  * PositivelySplitEwald::MinTolerance, which the PSE cannot reach, is refused naming the setting.
- * What PositivelySplitEwald::setBlobs refuses (the memory budget, 4 GiB, checked before anything
- * large is allocated; a box too narrow for the blobs) is rethrown naming the integrator's settings.
+ * What PositivelySplitEwald::setBlobs refuses (the memory budget, the integrator's
+ * setHydrodynamicMemoryBudget(), checked before anything large is allocated; a box too narrow for
+ * the blobs) is rethrown naming the integrator's settings.
  */
 class OPENMM_EXPORT_RIGIDLANGEVIN SpectralBlobMobility : public BlobMobility {
 public:
     /**
      * @param integratorName  the integrator's class name, for messages
      * @param parallel        the platform's threads
-     * @param memoryBudget    the most bytes the PSE may hold (PositivelySplitEwald::setMemoryBudget)
      */
-    SpectralBlobMobility(const std::string& integratorName, const KrylovSolvers::ParallelFor& parallel,
-                         double memoryBudget = PositivelySplitEwald::DefaultMemoryBudget);
+    SpectralBlobMobility(const std::string& integratorName, const KrylovSolvers::ParallelFor& parallel);
     /** The PSE's epsilon from now on: the integrator's hydrodynamic tolerance (throws if the PSE cannot reach it). */
     void setTolerance(double tolerance);
+    /** The most bytes the PSE may hold from the next setBlobs() on: the integrator's hydrodynamic memory budget. */
+    void setMemoryBudget(double bytes);
     void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors = NULL) override;
     void multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out) override;
     /** The PSE in use (after setTolerance()), e.g. for its grid and memory. */
