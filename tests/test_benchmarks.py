@@ -5,6 +5,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
@@ -341,3 +342,25 @@ def test_hydrodynamic_interactions_benchmark_runs_each_solver(tmp_path, monkeypa
     assert [(r['platform'], r['solver']) for r in rows] == [('OpenCL', 'off'), ('OpenCL', 'krylov')]
     assert [(c.getPlatform().getName(), c.getPlatform().getPropertyValue(c, 'Precision')) for c in made] == [('OpenCL', 'double')]*2
     assert float(rows[1]['friction_cg'].split()[0]) >= 1, rows[1]
+
+
+def test_periodic_hydrodynamics_benchmark_times_both_periodic_products(tmp_path, monkeypatch):
+    """benchmarks/platforms/periodic_hydrodynamics.py: its scene is a periodic cube of non-overlapping
+    spheres at the volume fraction it names, and one small measurement times the spectral and the
+    dense Ewald steps, each against the same spheres without interactions."""
+    sys.path.insert(0, str(ROOT/'benchmarks'/'platforms'))
+    import benchmark_utils
+    import periodic_hydrodynamics as bench
+    monkeypatch.setattr(benchmark_utils, 'RESULTS', str(tmp_path))
+    system, make_integrator, positions = bench.scene(200)
+    side = system.getDefaultPeriodicBoxVectors()[0][0]._value
+    assert system.usesPeriodicBoundaryConditions() and len(positions) == 200
+    assert 200*4/3*np.pi*bench.RADIUS**3/side**3 == pytest.approx(0.05)
+    d = positions[:, None]-positions[None]
+    d -= side*np.round(d/side)
+    assert np.sort(np.sqrt((d*d).sum(-1)), axis=1)[:, 1].min() >= 2*bench.RADIUS
+    rows = bench.measure(100, 1e-3, pairs=2, max_dense_blobs=100)
+    assert [r['solver'] for r in rows] == ['off', 'spectral', 'dense Ewald']
+    assert all(float(r['ms_per_step']) > 0 for r in rows) and float(rows[1]['speedup_over_dense']) > 0
+    assert rows[1]['friction_cg'] > 0 and rows[2]['friction_cg'] > 0
+    assert 'RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER' not in bench.os.environ
