@@ -375,8 +375,10 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
     // the tolerance at any friction (not to floor it below what double precision reaches).
     const double tighter = std::max(tolerance*(z-back).norm()/z.norm(), FrictionToleranceFloor);
     if (tighter < tolerance) {
-        iterations.friction += checkHydrodynamicSolve(frictionSolve, KrylovSolvers::conjugateGradient(schur, blockSolver, rhs, y, tighter, maxIterations),
-                                                      numBodies, numBlobs);
+        // maxIterations bounds the friction's iterations together, and a failure reports them together.
+        KrylovSolvers::Result more = KrylovSolvers::conjugateGradient(schur, blockSolver, rhs, y, tighter, maxIterations-iterations.friction);
+        more.iterations += iterations.friction;
+        iterations.friction = checkHydrodynamicSolve(frictionSolve, more, numBodies, numBlobs);
         applyKT(y, back);
     }
     if (warmStarts)
