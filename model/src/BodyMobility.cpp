@@ -1,6 +1,7 @@
 #include "internal/BodyMobility.h"
 #include "internal/BodyDynamics.h"
 #include "openmm/OpenMMException.h"
+#include <cmath>
 
 using namespace RigidLangevinPlugin;
 using Eigen::VectorXd;
@@ -8,20 +9,6 @@ using OpenMM::OpenMMException;
 using OpenMM::Vec3;
 using std::vector;
 
-namespace {
-
-/** A body's blob vector (3 per blob) from the lab frame into its frame (toBody), or back. */
-VectorXd turnBlobs(const VectorXd& v, const double q[3][3], bool toBody) {
-    VectorXd out(v.size());
-    for (int k = 0; k < v.size()/3; k++) {
-        Vec3 w(v[3*k], v[3*k+1], v[3*k+2]);
-        w = (toBody ? BodyDynamics::toBody(q, w) : BodyDynamics::toLab(q, w));
-        out.segment<3>(3*k) << w[0], w[1], w[2];
-    }
-    return out;
-}
-
-} // namespace
 
 BodyMobility::BodyMobility(const HydrodynamicInteractions& interactions) : interactions(interactions), model(interactions.getModel()), numBlobs(0) {
     for (int t = 0; t < model.getNumTypes(); t++) {
@@ -104,6 +91,20 @@ void BodyMobility::blockPreconditioner(const vector<BodyState>& states, const Ve
     }
 }
 
+VectorXd BodyMobility::unitScales() const {
+    // Blob forces stay as they are; a body's translational velocity is measured in mu0 (a blob of
+    // the smallest radius a under unit force) and its rotation rates in mu0/a.
+    const double a = interactions.getSmallestBlobRadius(), mu0 = 1/(6*M_PI*a);
+    VectorXd d = VectorXd::Ones(3*numBlobs+interactions.getNumCoordinates());
+    for (int b = 0; b < model.getNumBodies(); b++) {
+        const int first = 3*numBlobs+interactions.getFirstCoordinate(b);
+        const int n = model.getType(model.getBodyType(b)).getNumDegreesOfFreedom();
+        d.segment(first, n).setConstant(mu0/a);
+        d.segment(first, 3).setConstant(mu0);
+    }
+    return d;
+}
+
 int BodyMobility::solve(const vector<BodyState>& states, const VectorXd& g, const VectorXd& slip, VectorXd& out, double tolerance, int maxIterations,
                         BlobMobility& mobility, const Vec3* box) {
     placeBlobs(states, mobility, box);
@@ -111,19 +112,42 @@ int BodyMobility::solve(const vector<BodyState>& states, const VectorXd& g, cons
     VectorXd rhs(blobs+coordinates), x;
     rhs.head(blobs) = (slip.size() == 0 ? VectorXd(VectorXd::Zero(blobs)) : VectorXd(-slip));
     rhs.tail(coordinates) = -g;
-    KrylovSolvers::Operator product = [&] (const VectorXd& in, VectorXd& result) { saddleProduct(states, mobility, in, result); };
-    KrylovSolvers::Operator preconditioner = [&] (const VectorXd& in, VectorXd& result) { blockPreconditioner(states, in, result); };
+    // GMRES stops at a relative residual of the whole vector, so its parts must be comparable: the
+    // system is solved as (D A D/mu0) y = D b/mu0, x = D y, with D = unitScales(). Then blob velocities
+    // are in mu0 per unit force, forces and torques per a: without it, in nm, the blobs' rows (about
+    // mu0 ~ 1e-4 of the bodies') held no weight in the residual and the velocities from them were wrong
+    // by up to 7% at any tolerance.
+    const VectorXd d = unitScales();
+    const double mu0 = d[d.size()-coordinates];
+    KrylovSolvers::Operator product = [&] (const VectorXd& in, VectorXd& result) {
+        saddleProduct(states, mobility, d.cwiseProduct(in), result);
+        result = d.cwiseProduct(result)/mu0;
+    };
+    KrylovSolvers::Operator preconditioner = [&] (const VectorXd& in, VectorXd& result) {
+        blockPreconditioner(states, in.cwiseQuotient(d), result);
+        result = mu0*result.cwiseQuotient(d);
+    };
     int iterations = checkHydrodynamicSolve("GMRES for the bodies' mobility (the saddle-point problem of their blobs)",
-                                            KrylovSolvers::gmres(product, preconditioner, rhs, x, tolerance, maxIterations),
+                                            KrylovSolvers::gmres(product, preconditioner, d.cwiseProduct(rhs)/mu0, x, tolerance, maxIterations),
                                             model.getNumBodies(), numBlobs);
-    out = x.tail(coordinates);
+    out = d.tail(coordinates).cwiseProduct(x.tail(coordinates));
     return iterations;
 }
 
 int BodyMobility::blobNoise(const vector<BodyState>& states, const VectorXd& w, VectorXd& slip, double tolerance, int maxIterations,
                             BlobMobility& mobility, const Vec3* box) {
     placeBlobs(states, mobility, box);
-    KrylovSolvers::Operator product = [&] (const VectorXd& in, VectorXd& result) { mobility.multiply(in, result); };
-    return checkHydrodynamicSolve("the Lanczos square root of the blobs' mobility for the noise",
-                                  KrylovSolvers::lanczosSquareRoot(product, w, slip, tolerance, maxIterations), model.getNumBodies(), numBlobs);
+    // slip = L A^1/2 w with A = L^-1 M L^-T, L L^T every body's own blocks of M: covariance L A L^T = M,
+    // in the iterations of the well-conditioned A rather than of M.
+    KrylovSolvers::Operator preconditioned = [&] (const VectorXd& v, VectorXd& out) {
+        VectorXd in, product;
+        interactions.applySelfFactor(states, HydrodynamicInteractions::InverseLowerTranspose, v, in);
+        mobility.multiply(in, product);
+        interactions.applySelfFactor(states, HydrodynamicInteractions::InverseLower, product, out);
+    };
+    VectorXd root;
+    int iterations = checkHydrodynamicSolve("the Lanczos square root of the blobs' mobility for the noise (preconditioned by every body's own blocks)",
+                                            KrylovSolvers::lanczosPower(preconditioned, w, root, 0.5, tolerance, maxIterations), model.getNumBodies(), numBlobs);
+    interactions.applySelfFactor(states, HydrodynamicInteractions::Lower, root, slip);
+    return iterations;
 }

@@ -17,7 +17,7 @@ using std::vector;
 
 RigidBodyIntegrator::RigidBodyIntegrator(double temperature, double viscosity, double stepSize) :
         temperature(0), viscosity(0), randomNumberSeed(0), hydrodynamicInteractions(false), hydrodynamicSolver(AutomaticSolver),
-        hydrodynamicTolerance(1e-10), krylovMinBlobs(-1), hydrodynamicMemoryBudget(4.0*1024*1024*1024), wall(false), wallHeight(0) {
+        hydrodynamicTolerance(1e-4), krylovMinBlobs(-1), hydrodynamicMemoryBudget(4.0*1024*1024*1024), wall(false), wallHeight(0) {
     setTemperature(temperature);
     setViscosity(viscosity);
     if (!(stepSize > 0) || !std::isfinite(stepSize))
