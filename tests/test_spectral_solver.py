@@ -83,7 +83,7 @@ def test_the_spectral_step_is_the_dense_ewald_step_to_the_tolerance(platform, ma
     tolerance = 1e-9
     spectral = one_step(platform, make_integrator, rl.RigidLangevinIntegrator.SpectralSolver, tolerance)
     dense = one_step(platform, make_integrator, rl.RigidLangevinIntegrator.KrylovSolver, tolerance)
-    assert spectral[2] == dense[2] and min(spectral[2]) > 0
+    assert spectral[2] == dense[2] and spectral[2][0] > 0 and spectral[2][2] > 0  # the Langevin noise takes no solve: [1] may be 0
     for s, d in zip(spectral[:2], dense[:2]):
         assert np.abs(s-d).max() < tolerance*np.abs(d).max()
 
@@ -114,7 +114,7 @@ def test_the_spectral_step_keeps_the_maxwell_distribution():
         integrator.step(1)
         v = context.getState(getVelocities=True).getVelocities(asNumpy=True)._value
         temperatures.append(mass*np.einsum('ij,ij', v, v)/(3*count*KB))
-    assert min(integrator.getKrylovIterations()) > 0
+    assert integrator.getKrylovIterations()[0] > 0 and integrator.getKrylovIterations()[2] > 0
     mean, error = np.mean(temperatures), np.std(temperatures, ddof=1)/math.sqrt(len(temperatures))
     print(f'\nkinetic temperature with the spectral solver: {mean:.1f} +- {error:.1f} K')
     assert error < 0.01*temperature
