@@ -152,7 +152,8 @@ public:
     enum HydrodynamicSolver {
         AutomaticSolver = 0,
         DenseSolver = 1,
-        KrylovSolver = 2
+        KrylovSolver = 2,
+        SpectralSolver = 3
     };
     double getTemperature() const;
     void setTemperature(double temp);
@@ -177,6 +178,8 @@ public:
     double getHydrodynamicTolerance() const;
     void setKrylovMinBlobs(int blobs);
     int getKrylovMinBlobs() const;
+    void setHydrodynamicMemoryBudget(double bytes);
+    double getHydrodynamicMemoryBudget() const;
     void setBodyBlobs(int index, const std::vector<Vec3>& blobPositions, const std::vector<double>& blobRadii,
                       const std::vector<Vec3>& referencePositions);
     void clearBodyBlobs(int index);

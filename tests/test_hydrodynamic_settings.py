@@ -41,19 +41,24 @@ def stepped(platform, configure, steps=3):
     return context.getState(getVelocities=True).getVelocities(asNumpy=True)._value, list(integrator.getKrylovIterations())
 
 
+def matrix_free(iterations):
+    """Whether a step's Krylov iterations (the noise's Lanczos, 0, the friction's conjugate gradients) say it was matrix-free."""
+    return iterations[0] > 0 and iterations[1] == 0 and iterations[2] > 0
+
+
 def test_dense_and_matrix_free_solvers_take_the_same_step(platform):
     dense, dense_iterations = stepped(platform, lambda i: i.setHydrodynamicSolver(i.DenseSolver))
     krylov, krylov_iterations = stepped(platform, lambda i: i.setHydrodynamicSolver(i.KrylovSolver))
-    assert dense_iterations == [0, 0, 0] and min(krylov_iterations) > 0
+    assert dense_iterations == [0, 0, 0] and matrix_free(krylov_iterations)
     # The two draw their normal numbers differently, so only at zero temperature do they coincide.
-    cold = lambda solver: stepped(platform, lambda i: (i.setHydrodynamicSolver(solver), i.setTemperature(0)))[0]
+    cold = lambda solver: stepped(platform, lambda i: (i.setHydrodynamicSolver(solver), i.setTemperature(0), i.setHydrodynamicTolerance(1e-10)))[0]
     assert np.abs(cold(rl.RigidLangevinIntegrator.DenseSolver)-cold(rl.RigidLangevinIntegrator.KrylovSolver)).max() < 1e-8*np.abs(dense).max()
 
 
 def test_the_size_from_which_the_solve_is_matrix_free(platform):
     # 24 blobs: matrix-free from 24, dense from 25; the platform's default is dense on Reference
     # and matrix-free from 100 blobs elsewhere.
-    assert min(stepped(platform, lambda i: i.setKrylovMinBlobs(24))[1]) > 0
+    assert matrix_free(stepped(platform, lambda i: i.setKrylovMinBlobs(24))[1])
     assert stepped(platform, lambda i: i.setKrylovMinBlobs(25))[1] == [0, 0, 0]
     assert stepped(platform, lambda i: None)[1] == [0, 0, 0]
 
@@ -61,13 +66,13 @@ def test_the_size_from_which_the_solve_is_matrix_free(platform):
 def test_a_looser_tolerance_takes_fewer_iterations(platform):
     tight = stepped(platform, lambda i: i.setHydrodynamicSolver(i.KrylovSolver))[1]
     loose = stepped(platform, lambda i: (i.setHydrodynamicSolver(i.KrylovSolver), i.setHydrodynamicTolerance(1e-3)))[1]
-    assert all(l < t for l, t in zip(loose, tight)), (loose, tight)
+    assert loose[0] < tight[0] and loose[2] < tight[2], (loose, tight)
 
 
 def test_settings_survive_serialization_and_bad_values_are_refused():
     integrator = rl.RigidLangevinIntegrator(300, 500.0, 0.002)
     assert (integrator.getHydrodynamicSolver(), integrator.getHydrodynamicTolerance(), integrator.getKrylovMinBlobs()) == \
-        (integrator.AutomaticSolver, 1e-10, -1)
+        (integrator.AutomaticSolver, 1e-4, -1)
     integrator.setHydrodynamicSolver(integrator.KrylovSolver)
     integrator.setHydrodynamicTolerance(3e-6)
     integrator.setKrylovMinBlobs(250)
@@ -89,4 +94,4 @@ def test_version_3_xml_reads_with_the_default_settings():
     assert 'version="5"' in xml
     xml = re.sub(r' (hydrodynamicSolver|hydrodynamicTolerance|krylovMinBlobs|wall|wallHeight)="[^"]*"', '', xml.replace('version="5"', 'version="3"'))
     copy = rl.RigidLangevinIntegrator.cast(mm.XmlSerializer.deserialize(xml))
-    assert (copy.getHydrodynamicSolver(), copy.getHydrodynamicTolerance(), copy.getKrylovMinBlobs()) == (integrator.AutomaticSolver, 1e-10, -1)
+    assert (copy.getHydrodynamicSolver(), copy.getHydrodynamicTolerance(), copy.getKrylovMinBlobs()) == (integrator.AutomaticSolver, 1e-4, -1)

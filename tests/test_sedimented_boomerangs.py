@@ -99,9 +99,10 @@ def test_krylov_step_in_colloid_units_agrees_with_the_dense_one():
     # GMRES on the bodies' saddle-point problem stops on the norm of its residual: unscaled, its
     # blob rows (velocities) weigh 1/(6 pi a) = 1.6e-4 nm^-1 as much as its force rows for blobs of
     # 325 nm, and a solve to 1e-3 stopped as soon as each body's forces balanced (its own blocks,
-    # the preconditioner), before the wall or the other body entered: 46% off the dense step here,
-    # and the drift of a boomerang near the wall lost (its mean step 0.010 +- 0.008 um instead of
-    # 0.205 +- 0.009). Scaled, the step at 1e-3 is the dense one to the tolerance.
+    # the preconditioner), before the wall or the other body entered: off the dense step by 5.4
+    # times its norm here at 1e-3 and 1e-6 (0.48 at 1e-8), and the drift of a boomerang near the
+    # wall lost (its mean step 0.010 +- 0.008 um instead of 0.205 +- 0.009). Scaled, the step at
+    # 1e-3 is within 2.4% of the dense one (a bound of 10%), at 1e-8 within 1e-7 (bound 1e-6).
     dense = colloid_step('Reference')
     open_space = colloid_step('Reference', interactions=False)
     assert np.linalg.norm(open_space-dense) > 0.2*np.linalg.norm(dense)  # the wall and the other body matter

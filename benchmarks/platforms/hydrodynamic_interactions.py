@@ -24,8 +24,9 @@ The table is written again after each system, so that a run cut short keeps what
 Writes results/<name>.csv and .png: ms per step (mean of the pairs +- its standard error), the
 ratio to the same bodies without interactions, the simulated time per day, and for Krylov the
 iterations of its three solves (RigidLangevinIntegrator.getKrylovIterations(): the noise's Lanczos,
-the noise's and the friction's conjugate gradients), mean and range over ITERATION_STEPS steps
-after the timing.
+the noise's and the friction's conjugate gradients; the noise's are 0 since it is taken by one
+preconditioned Lanczos, and the committed tables' figures predate that), mean and range over
+ITERATION_STEPS steps after the timing.
 """
 import sys
 import argparse

@@ -147,6 +147,10 @@ Result KrylovSolvers::conjugateGradient(const Operator& a, const Operator& preco
 }
 
 Result KrylovSolvers::lanczosSquareRoot(const Operator& a, const VectorXd& w, VectorXd& result, double tolerance, int maxIterations) {
+    return lanczosPower(a, w, result, 0.5, tolerance, maxIterations);
+}
+
+Result KrylovSolvers::lanczosPower(const Operator& a, const VectorXd& w, VectorXd& result, double power, double tolerance, int maxIterations) {
     Result report = {Converged, 0, tolerance, maxIterations, 0, 0, 0};
     const int n = w.size();
     const double wNorm = w.norm();
@@ -195,13 +199,15 @@ Result KrylovSolvers::lanczosSquareRoot(const Operator& a, const VectorXd& w, Ve
         // T's eigenvalues lie within A's: one significantly below zero means A is not positive
         // definite, and its square root would be a fiction. Those within rounding of zero are zero.
         const double smallest = eigen.eigenvalues()[0], largest = eigen.eigenvalues()[m];
-        if (!(largest > 0) || smallest < -NegativeRitzTolerance*largest) {
+        if (!(largest > 0) || smallest < -NegativeRitzTolerance*largest || (power < 0 && !(smallest > 0))) {
             report.outcome = NotPositiveDefinite;
             report.curvature = smallest;
             report.largestCurvature = largest;
             return report;
         }
-        VectorXd root = eigen.eigenvectors()*eigen.eigenvalues().cwiseMax(0).cwiseSqrt().asDiagonal()*eigen.eigenvectors().row(0).transpose();
+        const VectorXd values = eigen.eigenvalues().cwiseMax(0);
+        const VectorXd powers = (power == 0.5 ? VectorXd(values.cwiseSqrt()) : VectorXd(values.array().pow(power).matrix()));
+        VectorXd root = eigen.eigenvectors()*powers.asDiagonal()*eigen.eigenvectors().row(0).transpose();
         result = wNorm*(basis.leftCols(m+1)*root);
         report.residual = (result-previous).norm()/result.norm();
         // Converged, or the Krylov space is exhausted (then the answer is exact).

@@ -202,6 +202,24 @@ TEST(KrylovSolvers, IndefiniteOperatorsFailLoudly) {
     EXPECT_LT((result-exact).norm(), 1e-8*exact.norm());
 }
 
+TEST(KrylovSolvers, LanczosInverseSquareRootIsTheMatrixInverseSquareRoot) {
+    // The power -1/2 of a well-conditioned operator (eigenvalues 0.5 to 5) against the dense one; a
+    // semidefinite operator has no inverse square root, and is refused rather than clipped.
+    const int n = 60;
+    SymmetricMatrix a(Eigen::VectorXd::LinSpaced(n, 0.5, 5));
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(a.matrix);
+    Eigen::VectorXd w = randomVector(n, 9), result;
+    Eigen::VectorXd exact = eigen.eigenvectors()*eigen.eigenvalues().cwiseSqrt().cwiseInverse().asDiagonal()*eigen.eigenvectors().transpose()*w;
+    KrylovSolvers::Result report = KrylovSolvers::lanczosPower(a.product(), w, result, -0.5, 1e-10, 200);
+    EXPECT_EQ(report.outcome, KrylovSolvers::Converged);
+    EXPECT_LT(report.iterations, n);
+    EXPECT_LT((result-exact).norm(), 1e-8*exact.norm());
+    Eigen::VectorXd eigenvalues = Eigen::VectorXd::LinSpaced(n, 0.5, 5);
+    eigenvalues.head(n/2).setZero();
+    SymmetricMatrix singular(eigenvalues);
+    EXPECT_EQ(KrylovSolvers::lanczosPower(singular.product(), w, result, -0.5, 1e-10, 1000).outcome, KrylovSolvers::NotPositiveDefinite);
+}
+
 TEST(KrylovSolvers, IndefinitePreconditionerAndNonFiniteProductsFailAtOnce) {
     const int n = 40;
     SymmetricMatrix a(Eigen::VectorXd::LinSpaced(n, 0.5, 5));

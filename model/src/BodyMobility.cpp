@@ -1,9 +1,7 @@
 #include "internal/BodyMobility.h"
 #include "internal/BodyDynamics.h"
 #include "openmm/OpenMMException.h"
-#include <algorithm>
 #include <cmath>
-#include <limits>
 
 using namespace RigidLangevinPlugin;
 using Eigen::VectorXd;
@@ -11,20 +9,6 @@ using OpenMM::OpenMMException;
 using OpenMM::Vec3;
 using std::vector;
 
-namespace {
-
-/** A body's blob vector (3 per blob) from the lab frame into its frame (toBody), or back. */
-VectorXd turnBlobs(const VectorXd& v, const double q[3][3], bool toBody) {
-    VectorXd out(v.size());
-    for (int k = 0; k < v.size()/3; k++) {
-        Vec3 w(v[3*k], v[3*k+1], v[3*k+2]);
-        w = (toBody ? BodyDynamics::toBody(q, w) : BodyDynamics::toLab(q, w));
-        out.segment<3>(3*k) << w[0], w[1], w[2];
-    }
-    return out;
-}
-
-} // namespace
 
 BodyMobility::BodyMobility(const HydrodynamicInteractions& interactions) : interactions(interactions), model(interactions.getModel()), numBlobs(0) {
     for (int t = 0; t < model.getNumTypes(); t++) {
@@ -35,36 +19,6 @@ BodyMobility::BodyMobility(const HydrodynamicInteractions& interactions) : inter
         firstBlob.push_back(numBlobs);
         numBlobs += interactions.getTypeBlobVelocities(model.getBodyType(b)).rows()/3;
     }
-    // The saddle-point problem's scales (see scaling()): the smallest blob radius, and a blob's
-    // Stokes mobility per unit viscosity at that radius.
-    scaleLength = std::numeric_limits<double>::infinity();
-    for (int t = 0; t < model.getNumTypes(); t++) {
-        vector<Vec3> coords;
-        vector<double> radii;
-        model.getTypeBlobs(t, coords, radii);
-        for (double r : radii)
-            scaleLength = std::min(scaleLength, r);
-    }
-    scaleMobility = 1/(6*M_PI*scaleLength);
-}
-
-VectorXd BodyMobility::scaling(bool rows) const {
-    // The blob rows (velocities) and the coordinate rows (forces, torques) of the saddle-point
-    // problem differ by a mobility, torques from forces by a length: by about 1/(6 pi a) and a for
-    // blobs of radius a. GMRES stops on the norm of all rows together, so unscaled the blob rows
-    // would weigh 1/(6 pi a) as much as the forces: in colloid units (a of hundreds of nm) a
-    // solve to 1e-3 would stop once each body's forces balance, before the blobs' velocities felt
-    // the wall or the other bodies. Rows: blob rows / m0, torque rows / a; columns (unknowns):
-    // velocities * m0, angular velocities * m0/a, so that every entry is a force of order one.
-    const int blobs = 3*numBlobs;
-    VectorXd d(blobs+interactions.getNumCoordinates());
-    d.head(blobs).setConstant(rows ? 1/scaleMobility : 1.0);
-    for (int b = 0; b < model.getNumBodies(); b++) {
-        const int first = blobs+interactions.getFirstCoordinate(b), n = interactions.getTypeBlobVelocities(model.getBodyType(b)).cols();
-        d.segment(first, 3).setConstant(rows ? 1.0 : scaleMobility);
-        d.segment(first+3, n-3).setConstant(rows ? 1/scaleLength : scaleMobility/scaleLength);
-    }
-    return d;
 }
 
 void BodyMobility::factorize(const vector<BodyState>& states, const Vec3* box) {
@@ -137,6 +91,20 @@ void BodyMobility::blockPreconditioner(const vector<BodyState>& states, const Ve
     }
 }
 
+VectorXd BodyMobility::unitScales() const {
+    // Blob forces stay as they are; a body's translational velocity is measured in mu0 (a blob of
+    // the smallest radius a under unit force) and its rotation rates in mu0/a.
+    const double a = interactions.getSmallestBlobRadius(), mu0 = 1/(6*M_PI*a);
+    VectorXd d = VectorXd::Ones(3*numBlobs+interactions.getNumCoordinates());
+    for (int b = 0; b < model.getNumBodies(); b++) {
+        const int first = 3*numBlobs+interactions.getFirstCoordinate(b);
+        const int n = model.getType(model.getBodyType(b)).getNumDegreesOfFreedom();
+        d.segment(first, n).setConstant(mu0/a);
+        d.segment(first, 3).setConstant(mu0);
+    }
+    return d;
+}
+
 int BodyMobility::solve(const vector<BodyState>& states, const VectorXd& g, const VectorXd& slip, VectorXd& out, double tolerance, int maxIterations,
                         BlobMobility& mobility, const Vec3* box) {
     placeBlobs(states, mobility, box);
@@ -144,56 +112,42 @@ int BodyMobility::solve(const vector<BodyState>& states, const VectorXd& g, cons
     VectorXd rhs(blobs+coordinates), x;
     rhs.head(blobs) = (slip.size() == 0 ? VectorXd(VectorXd::Zero(blobs)) : VectorXd(-slip));
     rhs.tail(coordinates) = -g;
-    // GMRES on the scaled problem (S_r A S_c) (S_c^-1 x) = S_r b, preconditioned by S_c^-1 P S_r^-1.
-    const VectorXd rows = scaling(true), columns = scaling(false);
+    // GMRES stops at a relative residual of the whole vector, so its parts must be comparable: the
+    // system is solved as (D A D/mu0) y = D b/mu0, x = D y, with D = unitScales(). Then blob velocities
+    // are in mu0 per unit force, forces and torques per a: without it, in nm, the blobs' rows (about
+    // mu0 ~ 1e-4 of the bodies') held no weight in the residual and the velocities from them were wrong
+    // by up to 7% at any tolerance.
+    const VectorXd d = unitScales();
+    const double mu0 = d[d.size()-coordinates];
     KrylovSolvers::Operator product = [&] (const VectorXd& in, VectorXd& result) {
-        saddleProduct(states, mobility, VectorXd(columns.cwiseProduct(in)), result);
-        result = rows.cwiseProduct(result);
+        saddleProduct(states, mobility, d.cwiseProduct(in), result);
+        result = d.cwiseProduct(result)/mu0;
     };
     KrylovSolvers::Operator preconditioner = [&] (const VectorXd& in, VectorXd& result) {
-        blockPreconditioner(states, VectorXd(in.cwiseQuotient(rows)), result);
-        result = result.cwiseQuotient(columns);
+        blockPreconditioner(states, in.cwiseQuotient(d), result);
+        result = mu0*result.cwiseQuotient(d);
     };
     int iterations = checkHydrodynamicSolve("GMRES for the bodies' mobility (the saddle-point problem of their blobs)",
-                                            KrylovSolvers::gmres(product, preconditioner, VectorXd(rows.cwiseProduct(rhs)), x, tolerance, maxIterations),
+                                            KrylovSolvers::gmres(product, preconditioner, d.cwiseProduct(rhs)/mu0, x, tolerance, maxIterations),
                                             model.getNumBodies(), numBlobs);
-    out = columns.tail(coordinates).cwiseProduct(x.tail(coordinates));
+    out = d.tail(coordinates).cwiseProduct(x.tail(coordinates));
     return iterations;
-}
-
-void BodyMobility::applyOwnFactor(const vector<BodyState>& states, const VectorXd& in, VectorXd& out, OwnFactor which) const {
-    // Body b's own blobs' mobility in the lab frame is Q M_b Q^T = (Q L_b)(Q L_b)^T, Q its rotation
-    // on every blob and L_b the Cholesky factor of M_b (its frame's, factorised once per type).
-    out.resize(in.size());
-    for (int b = 0; b < model.getNumBodies(); b++) {
-        const Eigen::LLT<Eigen::MatrixXd>& self = interactions.getTypeSelfMobility(model.getBodyType(b));
-        const int first = 3*firstBlob[b], size = self.rows();
-        const VectorXd segment = in.segment(first, size);
-        if (which == Factor)
-            out.segment(first, size) = turnBlobs(self.matrixL()*segment, states[b].rotation, false);
-        else if (which == Inverse)
-            out.segment(first, size) = self.matrixL().solve(turnBlobs(segment, states[b].rotation, true));
-        else
-            out.segment(first, size) = turnBlobs(self.matrixU().solve(segment), states[b].rotation, false);
-    }
 }
 
 int BodyMobility::blobNoise(const vector<BodyState>& states, const VectorXd& w, VectorXd& slip, double tolerance, int maxIterations,
                             BlobMobility& mobility, const Vec3* box) {
-    // Lanczos on L^-1 M L^-T, L every body's own blocks' factor (applyOwnFactor): close to the
-    // identity wherever a body's own blobs dominate its mobility, so it converges in a few
-    // iterations (RigidMultiblobsWall's preconditioning). slip = L (L^-1 M L^-T)^1/2 w has
-    // covariance M, as M^1/2 w has.
     placeBlobs(states, mobility, box);
-    KrylovSolvers::Operator product = [&] (const VectorXd& in, VectorXd& result) {
-        VectorXd spread, moved;
-        applyOwnFactor(states, in, spread, InverseTranspose);
-        mobility.multiply(spread, moved);
-        applyOwnFactor(states, moved, result, Inverse);
+    // slip = L A^1/2 w with A = L^-1 M L^-T, L L^T every body's own blocks of M: covariance L A L^T = M,
+    // in the iterations of the well-conditioned A rather than of M.
+    KrylovSolvers::Operator preconditioned = [&] (const VectorXd& v, VectorXd& out) {
+        VectorXd in, product;
+        interactions.applySelfFactor(states, HydrodynamicInteractions::InverseLowerTranspose, v, in);
+        mobility.multiply(in, product);
+        interactions.applySelfFactor(states, HydrodynamicInteractions::InverseLower, product, out);
     };
     VectorXd root;
-    const int iterations = checkHydrodynamicSolve("the Lanczos square root of the blobs' mobility for the noise",
-                                                  KrylovSolvers::lanczosSquareRoot(product, w, root, tolerance, maxIterations), model.getNumBodies(), numBlobs);
-    applyOwnFactor(states, root, slip, Factor);
+    int iterations = checkHydrodynamicSolve("the Lanczos square root of the blobs' mobility for the noise (preconditioned by every body's own blocks)",
+                                            KrylovSolvers::lanczosPower(preconditioned, w, root, 0.5, tolerance, maxIterations), model.getNumBodies(), numBlobs);
+    interactions.applySelfFactor(states, HydrodynamicInteractions::Lower, root, slip);
     return iterations;
 }

@@ -3,7 +3,9 @@
 #include "internal/CoupledResistanceMath.h"
 #include "openmm/OpenMMException.h"
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 using namespace RigidLangevinPlugin;
 using OpenMM::OpenMMException;
@@ -14,8 +16,21 @@ namespace {
 
 /** How the integrator's messages about the coupled bodies begin. */
 const std::string Caller = "RigidLangevinIntegrator: hydrodynamic interactions";
+/** The tightest relative residual the friction's conjugate gradients are asked for when the
+ *  tolerance is tightened for strong friction (1e-12 is the least a user may ask). */
+const double FrictionToleranceFloor = 1e-11;
 
 } // namespace
+
+Eigen::VectorXd RigidLangevinPlugin::turnBlobs(const Eigen::VectorXd& v, const double q[3][3], bool toBody) {
+    Eigen::VectorXd out(v.size());
+    for (int k = 0; k < v.size()/3; k++) {
+        Vec3 w(v[3*k], v[3*k+1], v[3*k+2]);
+        w = (toBody ? BodyDynamics::toBody(q, w) : BodyDynamics::toLab(q, w));
+        out.segment<3>(3*k) << w[0], w[1], w[2];
+    }
+    return out;
+}
 
 int RigidLangevinPlugin::checkHydrodynamicSolve(const std::string& solve, const KrylovSolvers::Result& result, int numBodies, int numBlobs) {
     if (result.outcome == KrylovSolvers::Converged)
@@ -122,6 +137,31 @@ int HydrodynamicInteractions::getNumBlobs() const {
     for (int b = 0; b < model.getNumBodies(); b++)
         count += types[model.getBodyType(b)].coords.size();
     return count;
+}
+
+void HydrodynamicInteractions::applySelfFactor(const vector<BodyState>& states, SelfFactor which, const Eigen::VectorXd& in, Eigen::VectorXd& out) const {
+    // Body b's block is Q L (Q its rotation on each blob): (Q L)^-1 = L^-1 Q^T, (Q L)^-T = Q L^-T.
+    out.resize(in.size());
+    for (int b = 0, first = 0; b < model.getNumBodies(); b++) {
+        const TypeBlobs& blobs = types[model.getBodyType(b)];
+        const int n = 3*blobs.coords.size();
+        const Eigen::VectorXd v = in.segment(first, n);
+        if (which == Lower)
+            out.segment(first, n) = turnBlobs(blobs.selfMobility.matrixL()*v, states[b].rotation, false);
+        else if (which == InverseLower)
+            out.segment(first, n) = blobs.selfMobility.matrixL().solve(turnBlobs(v, states[b].rotation, true));
+        else
+            out.segment(first, n) = turnBlobs(blobs.selfMobility.matrixU().solve(v), states[b].rotation, false);
+        first += n;
+    }
+}
+
+double HydrodynamicInteractions::getSmallestBlobRadius() const {
+    double smallest = std::numeric_limits<double>::infinity();
+    for (const TypeBlobs& type : types)
+        for (double r : type.radii)
+            smallest = std::min(smallest, r);
+    return smallest;
 }
 
 void HydrodynamicInteractions::placeBlobs(const vector<BodyState>& states, vector<Vec3>& positions, vector<double>& radii) const {
@@ -282,27 +322,31 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
     KrylovSolvers::Operator mobility = [&] (const VectorXd& f, VectorXd& out) {
         blobMobility.multiply(f, out);
     };
-    // Every body's own block solved in its frame.
-    auto blockSolver = [&] (bool friction) {
-        return KrylovSolvers::Operator([&, friction] (const VectorXd& in, VectorXd& out) {
-            out.resize(in.size());
-            for (int b = 0; b < numBodies; b++) {
-                const TypeBlobs& blobs = types[model.getBodyType(b)];
-                VectorXd frame = bodyBlobs(in, b, true);
-                toLabBlobs(friction ? blobs.friction.solve(frame) : blobs.selfMobility.solve(frame), b, out);
-            }
-        });
+    // Every body's own block of the friction's operator solved in its frame.
+    KrylovSolvers::Operator blockSolver = [&] (const VectorXd& in, VectorXd& out) {
+        out.resize(in.size());
+        for (int b = 0; b < numBodies; b++) {
+            const TypeBlobs& blobs = types[model.getBodyType(b)];
+            toLabBlobs(blobs.friction.solve(bodyBlobs(in, b, true)), b, out);
+        }
     };
     KrylovIterations iterations = {0, 0, 0};
     const VectorXd& masses = getMasses();
     VectorXd z = 2*masses.cwiseProduct(u);
     if (kT > 0) {
+        // Noise of covariance M^-1 as L^-T A^-1/2 w, with A = L^-1 M L^-T preconditioned by every
+        // body's own blocks L L^T: one Lanczos on the well-conditioned A, where M^-1 (M^1/2 w) took a
+        // Lanczos on M and conjugate gradients (about twice the products, and more as bodies are added).
+        KrylovSolvers::Operator preconditioned = [&] (const VectorXd& v, VectorXd& out) {
+            VectorXd in, product;
+            applySelfFactor(states, InverseLowerTranspose, v, in);
+            mobility(in, product);
+            applySelfFactor(states, InverseLower, product, out);
+        };
         VectorXd root, solved;
-        iterations.noise = checkHydrodynamicSolve("the Lanczos square root of the blobs' mobility for the noise",
-                                      KrylovSolvers::lanczosSquareRoot(mobility, normals, root, tolerance, maxIterations), numBodies, numBlobs);
-        iterations.noiseSolve = checkHydrodynamicSolve("the conjugate gradients on the blobs' mobility for the noise",
-                                           KrylovSolvers::conjugateGradient(mobility, blockSolver(false), root, solved, tolerance, maxIterations),
-                                           numBodies, numBlobs);
+        iterations.noise = checkHydrodynamicSolve("the Lanczos inverse square root of the blobs' mobility for the noise (preconditioned by every body's own blocks)",
+                                                  KrylovSolvers::lanczosPower(preconditioned, normals, root, -0.5, tolerance, maxIterations), numBodies, numBlobs);
+        applySelfFactor(states, InverseLowerTranspose, root, solved);
         VectorXd xi;
         applyKT(solved, xi);
         z += std::sqrt(2*kT*h*viscosity)*xi;
@@ -320,13 +364,25 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
     // start from the best multiple of the last step's (one product), or from zero after a checkpoint.
     VectorXd startProduct;
     KrylovSolvers::scaledStart(schur, lastFrictionSolution, rhs, y, startProduct);
-    iterations.friction = checkHydrodynamicSolve("the conjugate gradients for the friction (on M/c + K M_b^-1 K^T, M the blobs' mobility)",
-                                               KrylovSolvers::conjugateGradient(schur, blockSolver(true), rhs, y, tolerance, maxIterations, &startProduct),
-                                               numBodies, numBlobs);
-    if (warmStarts)
-        lastFrictionSolution = y;
+    const std::string frictionSolve = "the conjugate gradients for the friction (on M/c + K M_b^-1 K^T, M the blobs' mobility)";
+    iterations.friction = checkHydrodynamicSolve(frictionSolve, KrylovSolvers::conjugateGradient(schur, blockSolver, rhs, y, tolerance, maxIterations, &startProduct),
+                                                 numBodies, numBlobs);
     VectorXd back;
     applyKT(y, back);
+    // The step's (M_b + c R)^-1 z = M_b^-1 (z - K^T y) is, where the friction is strong, much smaller
+    // than M_b^-1 z, and y's error, through K^T, larger relative to it by |z|/|z - K^T y| (about
+    // gamma h/m): solve on, from y, to the tolerance times that ratio, so that the step is right to
+    // the tolerance at any friction (not to floor it below what double precision reaches).
+    const double tighter = std::max(tolerance*(z-back).norm()/z.norm(), FrictionToleranceFloor);
+    if (tighter < tolerance) {
+        // maxIterations bounds the friction's iterations together, and a failure reports them together.
+        KrylovSolvers::Result more = KrylovSolvers::conjugateGradient(schur, blockSolver, rhs, y, tighter, maxIterations-iterations.friction);
+        more.iterations += iterations.friction;
+        iterations.friction = checkHydrodynamicSolve(frictionSolve, more, numBodies, numBlobs);
+        applyKT(y, back);
+    }
+    if (warmStarts)
+        lastFrictionSolution = y;
     u = (z-back).cwiseQuotient(masses)-u;
     return iterations;
 }

@@ -192,8 +192,9 @@ public:
      * preconditioned by every body's own blocks, to the relative residual of
      * setHydrodynamicTolerance(); setHydrodynamicSolver() and setKrylovMinBlobs() choose; a solve that
      * does not converge, or finds the mobility not positive definite, throws naming it; in a periodic
-     * box with the Ewald-summed mobility formed once a
-     * step), dense below that. On OpenCL and CUDA the coupled step is taken on the host, the blobs'
+     * box from 500 blobs, or at a tolerance of 1e-5 or looser, with the positively split Ewald
+     * products at linear cost (SpectralSolver), below that with the Ewald-summed mobility formed once
+     * a step), dense below that. On OpenCL and CUDA the coupled step is taken on the host, the blobs'
      * mobility products of the Krylov solves in an unbounded solvent on the device (a tiled kernel,
      * double precision; a device without double precision is refused). In a periodic System the blobs feel
      * every image of every body (an Ewald sum of their mobility, exact for any box; see
@@ -218,11 +219,14 @@ public:
     void setHydrodynamicInteractions(bool enabled);
     /**
      * The iterations the last step's Krylov solves of the coupled friction took (see
-     * setHydrodynamicInteractions()), to see what a system costs and how well conditioned it is:
-     * the Lanczos iteration for the noise, the conjugate gradients for the noise and those for the
-     * friction, in that order (each iteration one product with the blobs' mobility). All zero after
-     * a dense step, at zero viscosity or without interactions; the noise's zero at zero temperature.
-     * The integrator must be bound to a Context.
+     * setHydrodynamicInteractions()), to see what a system costs and how well conditioned it is, in
+     * three entries, each iteration one product with the blobs' mobility. RigidLangevinIntegrator:
+     * the noise's Lanczos iteration (M^-1/2 w, preconditioned by every body's own blobs), 0 (the
+     * noise needs no conjugate gradients since it is taken that way), and the friction's conjugate
+     * gradients. RigidBrownianIntegrator: the noise's Lanczos iteration (M^1/2 w, preconditioned the
+     * same way), the GMRES iterations of the drift's two mobility solves together, and those of the
+     * step's mobility solve. All zero after a dense step, at zero viscosity or without interactions;
+     * the noise's zero at zero temperature. The integrator must be bound to a Context.
      */
     std::vector<int> getKrylovIterations() const;
     /** Get whether bodies are coupled through the solvent (setHydrodynamicInteractions()). */
@@ -235,14 +239,25 @@ public:
         AutomaticSolver = 0,
         /** Form and factorise the bodies' coupled resistance (Cholesky): cost (3B)^3/3 for B blobs. */
         DenseSolver = 1,
-        /** Matrix-free: conjugate gradients and Lanczos with products of the blobs' mobility. */
-        KrylovSolver = 2
+        /** Matrix-free: conjugate gradients and Lanczos with products of the blobs' mobility (in a
+         *  periodic box, the dense Ewald sum formed once a step: exact, but O(B^2) memory and time). */
+        KrylovSolver = 2,
+        /** As KrylovSolver, but in a periodic box the products are the positively split Ewald sum's
+         *  (PSE: matrix-free, linear cost and memory, at epsilon = setHydrodynamicTolerance(), which
+         *  must then be at least 1e-10); in an unbounded solvent or above a wall, KrylovSolver. */
+        SpectralSolver = 3
     };
     /**
      * Set how the coupled friction of hydrodynamic interactions is solved (the default is
-     * AutomaticSolver). Takes effect at the next step. (The environment variable
-     * RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER, dense or krylov, overrides it on every platform but
-     * Reference; it is there for the tests, which run both paths on small systems.)
+     * AutomaticSolver). Takes effect at the next step. In a periodic box AutomaticSolver takes
+     * SpectralSolver's products where it is matrix-free and there are at least 500 blobs or the
+     * tolerance is 1e-5 or looser (where they are the faster on the CPU:
+     * benchmarks/platforms/periodic_hydrodynamics.py); KrylovSolver's dense Ewald sum (72 B^2 bytes
+     * for B blobs) is refused beyond setHydrodynamicMemoryBudget(). The spectral products are
+     * computed on the host on every platform (on OpenCL and CUDA too; a device FFT path is not
+     * there yet). (The environment
+     * variable RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER, dense, krylov or spectral, overrides it on every
+     * platform but Reference; it is there for the tests, which run each path on small systems.)
      */
     void setHydrodynamicSolver(HydrodynamicSolver solver);
     /** Get how the coupled friction of hydrodynamic interactions is solved (setHydrodynamicSolver()). */
@@ -251,10 +266,17 @@ public:
     }
     /**
      * Set the relative residual at which the matrix-free solves of the coupled friction stop
-     * (conjugate gradients: |b - A x| <= tolerance |b|; Lanczos: two successive estimates of M^1/2 w
-     * within tolerance), between 1e-12 (what double precision reaches reliably) and 0.1. The
-     * friction and noise are wrong by about the tolerance, relative; see the README's speed-against-
-     * error study for what that does to what users measure. Takes effect at the next step.
+     * (conjugate gradients and GMRES: |b - A x| <= tolerance |b|; Lanczos: two successive estimates
+     * within tolerance), between 1e-12 (what double precision reaches reliably) and 0.1. The default,
+     * 1e-4, is chosen from the error it causes (benchmarks/hydrodynamics/tolerance_error.py, boomerang
+     * suspensions of 16 to 256 bodies): a step of RigidLangevinIntegrator is then within about 4e-5 of
+     * the exactly solved step, relative, and one of RigidBrownianIntegrator within 7.5e-4 (its drift's
+     * solves are divided by a displacement of tolerance^1/3), so a mean or covariance of the motion is
+     * off by at most about 0.15%, below what runs resolve; 1e-8 costs about twice the products. With
+     * SpectralSolver in a periodic box the tolerance is also the positively split Ewald products'
+     * epsilon (their error is at most 0.3 epsilon of |M f|, so it does not limit the solves), which
+     * must be at least 1e-10: a spectral step at a tighter tolerance is refused. Takes effect at the
+     * next step.
      */
     void setHydrodynamicTolerance(double tolerance);
     /** Get the relative residual at which the matrix-free solves stop (setHydrodynamicTolerance()). */
@@ -271,6 +293,18 @@ public:
     /** Get the number of blobs from which AutomaticSolver solves matrix-free, or -1 for the platform's default (setKrylovMinBlobs()). */
     int getKrylovMinBlobs() const {
         return krylovMinBlobs;
+    }
+    /**
+     * Set the most memory (bytes) the matrix-free step's products of the blobs' mobility may hold in
+     * a periodic box: the spectral solver's positively split Ewald grid and real-space pairs, and
+     * KrylovSolver's dense Ewald sum (72 B^2 bytes for B blobs). A step that would need more is
+     * refused, before anything large is allocated, with a message giving the bytes it needs. The
+     * default is 4 GiB. Takes effect at the next step.
+     */
+    void setHydrodynamicMemoryBudget(double bytes);
+    /** Get the most memory (bytes) the matrix-free step's periodic products may hold (setHydrodynamicMemoryBudget()). */
+    double getHydrodynamicMemoryBudget() const {
+        return hydrodynamicMemoryBudget;
     }
     /**
      * Give a body the hydrodynamic blobs through which it feels other bodies when hydrodynamic
@@ -415,6 +449,7 @@ private:
     HydrodynamicSolver hydrodynamicSolver;
     double hydrodynamicTolerance;
     int krylovMinBlobs;
+    double hydrodynamicMemoryBudget;
     bool wall;
     double wallHeight;
     std::vector<std::vector<int> > bodies;

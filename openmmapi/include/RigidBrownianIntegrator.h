@@ -32,9 +32,10 @@ namespace RigidLangevinPlugin {
  * The scheme is Euler-Maruyama with the drift from random finite differences (Delong, Usabiaga,
  * Delmotte, Donev et al., J. Chem. Phys. 140, 134110 (2014)): kT (d/dq . N) is estimated without
  * derivatives as (kT/delta) [N(q + delta W'/2) - N(q - delta W'/2)] W', W' independent standard
- * normal numbers, displacements of delta = tolerance^(1/3) times the smallest blob radius and
- * delta radians (see setHydrodynamicTolerance(); the estimate's bias is O(delta^2) and the solves'
- * error adds tolerance/delta). It is weakly first order. With hydrodynamic interactions a step
+ * normal numbers, displacements of delta = tolerance^(1/3) times the smallest blob radius a and
+ * turns that move a body's farthest blob as far (delta a/r radians, at most delta; see
+ * setHydrodynamicTolerance(); the estimate's bias is O(delta^2) and the solves' error adds
+ * tolerance/delta). It is weakly first order. With hydrodynamic interactions a step
  * takes one Lanczos iteration (the noise through the blobs, M^1/2 W) and three mobility solves (the
  * forces and noise together, and the two displaced configurations), each a saddle-point problem
  * solved by GMRES with every body's own blocks as preconditioner: the cost of RigidMultiblobsWall's

@@ -17,7 +17,7 @@ using std::vector;
 
 RigidBodyIntegrator::RigidBodyIntegrator(double temperature, double viscosity, double stepSize) :
         temperature(0), viscosity(0), randomNumberSeed(0), hydrodynamicInteractions(false), hydrodynamicSolver(AutomaticSolver),
-        hydrodynamicTolerance(1e-10), krylovMinBlobs(-1), wall(false), wallHeight(0) {
+        hydrodynamicTolerance(1e-4), krylovMinBlobs(-1), hydrodynamicMemoryBudget(4.0*1024*1024*1024), wall(false), wallHeight(0) {
     setTemperature(temperature);
     setViscosity(viscosity);
     if (!(stepSize > 0) || !std::isfinite(stepSize))
@@ -161,9 +161,9 @@ void RigidBodyIntegrator::setHydrodynamicInteractions(bool enabled) {
 }
 
 void RigidBodyIntegrator::setHydrodynamicSolver(HydrodynamicSolver solver) {
-    if (solver != AutomaticSolver && solver != DenseSolver && solver != KrylovSolver)
+    if (solver != AutomaticSolver && solver != DenseSolver && solver != KrylovSolver && solver != SpectralSolver)
         throw OpenMMException(className()+"::setHydrodynamicSolver: unknown solver "+std::to_string((int) solver)+
-                "; use AutomaticSolver (0), DenseSolver (1) or KrylovSolver (2)");
+                "; use AutomaticSolver (0), DenseSolver (1), KrylovSolver (2) or SpectralSolver (3)");
     hydrodynamicSolver = solver;
 }
 
@@ -179,6 +179,13 @@ void RigidBodyIntegrator::setKrylovMinBlobs(int blobs) {
         throw OpenMMException(className()+"::setKrylovMinBlobs: "+std::to_string(blobs)+" blobs; give a number of blobs, or -1 for the "
                 "platform's default");
     krylovMinBlobs = blobs;
+}
+
+void RigidBodyIntegrator::setHydrodynamicMemoryBudget(double bytes) {
+    if (!(bytes > 0 && std::isfinite(bytes)))
+        throw OpenMMException(className()+"::setHydrodynamicMemoryBudget: the budget is "+std::to_string(bytes)+" bytes; give a positive, finite "
+                "number of bytes (the default is 4 GiB, 4294967296)");
+    hydrodynamicMemoryBudget = bytes;
 }
 
 void RigidBodyIntegrator::setBodyBlobs(int index, const vector<Vec3>& blobPositions, const vector<double>& blobRadii, const vector<Vec3>& referencePositions) {

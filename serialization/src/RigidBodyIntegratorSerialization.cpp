@@ -65,6 +65,7 @@ void RigidLangevinPlugin::writeRigidBodyIntegrator(const RigidBodyIntegrator& in
     node.setIntProperty("hydrodynamicSolver", integrator.getHydrodynamicSolver());
     node.setDoubleProperty("hydrodynamicTolerance", integrator.getHydrodynamicTolerance());
     node.setIntProperty("krylovMinBlobs", integrator.getKrylovMinBlobs());
+    node.setDoubleProperty("hydrodynamicMemoryBudget", integrator.getHydrodynamicMemoryBudget());
     double wallHeight;
     node.setBoolProperty("wall", integrator.getWall(wallHeight)).setDoubleProperty("wallHeight", wallHeight);
     SerializationNode& radii = node.createChildNode("Radii");
@@ -118,6 +119,8 @@ void RigidLangevinPlugin::readRigidBodyIntegrator(const SerializationNode& node,
         integrator.setHydrodynamicTolerance(node.getDoubleProperty("hydrodynamicTolerance"));
         integrator.setKrylovMinBlobs(node.getIntProperty("krylovMinBlobs"));
     }
+    // Added without a new version: files written before it read with the default.
+    integrator.setHydrodynamicMemoryBudget(node.getDoubleProperty("hydrodynamicMemoryBudget", integrator.getHydrodynamicMemoryBudget()));
     for (const SerializationNode& r : node.getChildNode("Radii").getChildren())
         integrator.setParticleRadius(r.getIntProperty("index"), r.getDoubleProperty("radius"));
     if (version >= wallVersion && node.getBoolProperty("wall"))

@@ -101,6 +101,16 @@ OPENMM_EXPORT_HYDRODYNAMICS Result lanczosSquareRoot(const Operator& a, const Ei
                                                      int maxIterations);
 
 /**
+ * result = A^power w by the same Lanczos process (|w| V T^power e_1; lanczosSquareRoot() is power
+ * 1/2). A negative power needs A positive definite: a Ritz value at or below zero is NotPositiveDefinite.
+ * With A = L^-1 M L^-T for a factor L L^T = P of a preconditioner P of M, L^-T (A^-1/2 w) has
+ * covariance M^-1 and L (A^1/2 w) covariance M for white noise w: the noise of a Krylov step in
+ * the iterations of a preconditioned operator.
+ */
+OPENMM_EXPORT_HYDRODYNAMICS Result lanczosPower(const Operator& a, const Eigen::VectorXd& w, Eigen::VectorXd& result, double power, double tolerance,
+                                                int maxIterations);
+
+/**
  * Solve A x = b by GMRES(restart) with right preconditioning: the Krylov space of A P, P an
  * approximation of A^-1 (any nonsingular operator: A need not be symmetric or definite, as the
  * rigid bodies' saddle-point mobility problem is not), starting from x as given (resized to zero if

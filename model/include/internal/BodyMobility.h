@@ -28,8 +28,7 @@ namespace RigidLangevinPlugin {
  *     [ -K'^T  0 ] [   U    ] = [ -g ],    U = N (g + K'^T M^-1 s),
  *
  * solved by GMRES preconditioned by every body's own blocks (its blobs' M_bb and K'_b, exact per
- * body, factorised once per type), the slip s by Lanczos preconditioned by the same blocks
- * (s = L (L^-1 M L^-T)^1/2 w, L L^T the blocks of M_bb: covariance M); every product with M is the
+ * body, factorised once per type), the slip s = M^1/2 w by Lanczos; every product with M is the
  * platform's (BlobMobility). A solve that fails throws, naming it, why and what to do.
  */
 class OPENMM_EXPORT_RIGIDLANGEVIN BodyMobility {
@@ -50,19 +49,14 @@ public:
     /** Matrix-free: slip = M^1/2 w at these states (Lanczos), w three normals per blob; returns its iterations. */
     int blobNoise(const std::vector<BodyState>& states, const Eigen::VectorXd& w, Eigen::VectorXd& slip, double tolerance, int maxIterations,
                   BlobMobility& mobility, const OpenMM::Vec3* box);
-    /** The smallest radius of any body's blobs (nm): the length over which their mobility changes. */
-    double getSmallestBlobRadius() const {
-        return scaleLength;
-    }
 private:
     /** Set mobility's blobs from states (checked first), and the blob offsets of every body. */
     void placeBlobs(const std::vector<BodyState>& states, BlobMobility& mobility, const OpenMM::Vec3* box);
+    /** The scale of every unknown of the saddle-point problem (see solve()). */
+    Eigen::VectorXd unitScales() const;
     /** The saddle-point operator and its block preconditioner for the bodies in states. */
     void saddleProduct(const std::vector<BodyState>& states, BlobMobility& mobility, const Eigen::VectorXd& in, Eigen::VectorXd& out) const;
     void blockPreconditioner(const std::vector<BodyState>& states, const Eigen::VectorXd& in, Eigen::VectorXd& out) const;
-    /** Which of every body's own blocks' factor L (lab frame) applyOwnFactor() applies: L, L^-1 or L^-T. */
-    enum OwnFactor {Factor, Inverse, InverseTranspose};
-    void applyOwnFactor(const std::vector<BodyState>& states, const Eigen::VectorXd& in, Eigen::VectorXd& out, OwnFactor which) const;
     /** K' u (lab blob velocities) and K'^T f (generalised forces of lab blob forces). */
     void applyK(const std::vector<BodyState>& states, const Eigen::VectorXd& u, Eigen::VectorXd& out) const;
     void applyKT(const std::vector<BodyState>& states, const Eigen::VectorXd& f, Eigen::VectorXd& out) const;
@@ -72,10 +66,6 @@ private:
     int numBlobs;
     /** Per type: its own resistance from its blobs alone, K'^T M_bb^-1 K', factorised (the preconditioner's). */
     std::vector<Eigen::LLT<Eigen::MatrixXd> > ownResistance;
-    /** The saddle-point problem's length (the smallest blob radius, nm) and mobility (1/(6 pi a)). */
-    double scaleLength, scaleMobility;
-    /** The diagonal scaling of the saddle-point problem's rows (rows) or unknowns (columns). */
-    Eigen::VectorXd scaling(bool rows) const;
     Eigen::LLT<Eigen::MatrixXd> dense;
 };
 

@@ -52,6 +52,8 @@ public:
     }
     /** The number of blobs of all bodies together. */
     int getNumBlobs() const;
+    /** The smallest blob radius of any body type (nm): the length over which the blobs' mobility changes. */
+    double getSmallestBlobRadius() const;
     /** The coupled resistance per unit viscosity of the bodies at these states (see the class
      *  description), in the periodic box of boxVectors (three) if given. */
     Eigen::MatrixXd computeResistance(const std::vector<BodyState>& states, const OpenMM::Vec3* boxVectors = NULL) const;
@@ -110,6 +112,19 @@ public:
     const Eigen::LLT<Eigen::MatrixXd>& getTypeSelfMobility(int type) const {
         return types[type].selfMobility;
     }
+    /** Which operation of every body's own mobility factor applySelfFactor() applies. */
+    enum SelfFactor {
+        Lower,                  // L v
+        InverseLower,           // L^-1 v
+        InverseLowerTranspose   // L^-T v
+    };
+    /**
+     * out = the block-diagonal L (or its inverse, or inverse transpose) of blob vectors (3 per blob,
+     * lab frame, all bodies in order), L L^T the bodies' own blocks of the blobs' mobility at these
+     * states: each body's block is Q L_t, its type's Cholesky factor in its frame turned to the lab.
+     * The Krylov noise is taken through it, preconditioned (KrylovSolvers::lanczosPower).
+     */
+    void applySelfFactor(const std::vector<BodyState>& states, SelfFactor which, const Eigen::VectorXd& in, Eigen::VectorXd& out) const;
     /** Throw, naming body and blob, where blobs placed from states cannot be solved (HydrodynamicInteractions' checks, shared by every path). */
     void validateBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors) const;
 private:
@@ -132,6 +147,9 @@ private:
     bool warmStarts = true;
     mutable Eigen::VectorXd lastFrictionSolution;  // the last friction solve's y (lab frame), empty when forgotten
 };
+
+/** A body's blob vector (3 per blob) from the lab frame into its frame (toBody), or back. */
+OPENMM_EXPORT_RIGIDLANGEVIN Eigen::VectorXd turnBlobs(const Eigen::VectorXd& v, const double q[3][3], bool toBody);
 
 /**
  * The iterations a Krylov solve of the coupled bodies took if it converged; otherwise throw an

@@ -64,7 +64,19 @@ BrownianBodyStep::BrownianBodyStep(const RigidBodyModel& model, const Hydrodynam
     }
     if (interactions != NULL) {
         bodyMobility.reset(new BodyMobility(*interactions));
-        driftLength = bodyMobility->getSmallestBlobRadius();  // the length over which the blobs' mobility changes
+        // The length over which the blobs' mobility changes, and the turn of each type that moves its
+        // blobs as far: a turn of delta radians would carry a blob at distance r by delta r, far past
+        // l on a long body (through the wall at a loose tolerance).
+        driftLength = interactions->getSmallestBlobRadius();
+        for (int t = 0; t < model.getNumTypes(); t++) {
+            vector<Vec3> coords;
+            vector<double> radii;
+            model.getTypeBlobs(t, coords, radii);
+            double farthest = 0;
+            for (const Vec3& r : coords)
+                farthest = std::max(farthest, std::sqrt(r.dot(r)));
+            driftAngle.push_back(std::min(1.0, driftLength/std::max(farthest, 1e-300)));
+        }
     }
 }
 
@@ -180,8 +192,10 @@ vector<Vector6> BrownianBodyStep::drift(const vector<BodyState>& states, const C
         for (int i = 0; i < 6; i++)
             w[b][i] = normal();
         scaled[b] = w[b];
+        const double angle = (driftAngle.empty() ? 1.0 : driftAngle[model.getBodyType(b)]);
         scaled[b].head<3>() /= driftLength;
-        Vec3 shift = Vec3(w[b][0], w[b][1], w[b][2])*(0.5*delta*driftLength), turn = Vec3(w[b][3], w[b][4], w[b][5])*(0.5*delta);
+        scaled[b].tail<3>() /= angle;
+        Vec3 shift = Vec3(w[b][0], w[b][1], w[b][2])*(0.5*delta*driftLength), turn = Vec3(w[b][3], w[b][4], w[b][5])*(0.5*delta*angle);
         moveBody(plus[b], type, shift, turn);
         moveBody(minus[b], type, -shift, -turn);
     }

@@ -104,23 +104,46 @@ void RigidLangevinStepKernelBase::initializeInteractions() {
     brownianStep.reset();
 }
 
-CoupledSolve RigidLangevinStepKernelBase::chooseCoupledSolve(const RigidBodyIntegrator& integrator, int numBlobs) const {
-    CoupledSolve solve = {false, integrator.getHydrodynamicTolerance(), KrylovMaxIterations};
+CoupledSolve RigidLangevinStepKernelBase::chooseCoupledSolve(const RigidBodyIntegrator& integrator, int numBlobs, bool periodic) const {
+    CoupledSolve solve = {false, integrator.getHydrodynamicTolerance(), KrylovMaxIterations, false};
     const int platformMinBlobs = getDefaultKrylovMinBlobs();
     const char* setting = std::getenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER");
     if (platformMinBlobs >= 0 && setting != NULL && std::string(setting) != "") {
-        if (std::string(setting) != "krylov" && std::string(setting) != "dense")
-            throw OpenMMException("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER is '"+std::string(setting)+"': set it to dense or krylov, or unset it");
-        solve.krylov = (std::string(setting) == "krylov");
-        return solve;
+        const std::string value(setting);
+        if (value != "krylov" && value != "dense" && value != "spectral")
+            throw OpenMMException("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER is '"+value+"': set it to dense, krylov or spectral, or unset it");
+        solve.krylov = (value != "dense");
+        solve.spectral = (periodic && value == "spectral");
     }
-    if (integrator.getHydrodynamicSolver() != RigidLangevinIntegrator::AutomaticSolver)
-        solve.krylov = (integrator.getHydrodynamicSolver() == RigidLangevinIntegrator::KrylovSolver);
+    else if (integrator.getHydrodynamicSolver() != RigidLangevinIntegrator::AutomaticSolver) {
+        solve.krylov = (integrator.getHydrodynamicSolver() != RigidLangevinIntegrator::DenseSolver);
+        solve.spectral = (periodic && integrator.getHydrodynamicSolver() == RigidLangevinIntegrator::SpectralSolver);
+    }
     else {
         int minBlobs = (integrator.getKrylovMinBlobs() >= 0 ? integrator.getKrylovMinBlobs() : platformMinBlobs);
         solve.krylov = (minBlobs >= 0 && numBlobs >= minBlobs);
+        solve.spectral = (solve.krylov && periodic && (numBlobs >= SpectralMinBlobs || solve.tolerance >= SpectralLooseTolerance));
     }
+    // The dense Ewald sum of the matrix-free step: 8 (3B)^2 bytes, formed every step.
+    const double denseBytes = 72.0*numBlobs*numBlobs;
+    const double budget = integrator.getHydrodynamicMemoryBudget();
+    if (solve.krylov && periodic && !solve.spectral && denseBytes > budget)
+        throw OpenMMException(integratorName(integrator)+": the matrix-free solver in a periodic box with the dense Ewald sum (KrylovSolver) forms "
+                "the blobs' mobility every step, "+std::to_string((long long) (denseBytes/(1<<20)))+" MiB for "+std::to_string(numBlobs)+
+                " blobs, more than the budget of "+std::to_string((long long) (budget/(1<<20)))+" MiB (setHydrodynamicMemoryBudget()): call "
+                "setHydrodynamicSolver(SpectralSolver) (the positively split Ewald sum, linear memory) or AutomaticSolver, or raise the budget");
     return solve;
+}
+
+BlobMobility& RigidLangevinStepKernelBase::stepMobility(const RigidBodyIntegrator& integrator, const CoupledSolve& solve) {
+    if (!solve.spectral)
+        return blobMobility();
+    if (!spectralMobility)
+        spectralMobility.reset(new SpectralBlobMobility(integratorName(integrator),
+                [this] (int count, const std::function<void (int, int)>& task) { parallelFor(count, task); }));
+    spectralMobility->setTolerance(solve.tolerance);
+    spectralMobility->setMemoryBudget(integrator.getHydrodynamicMemoryBudget());
+    return *spectralMobility;
 }
 
 void RigidLangevinStepKernelBase::takeCoupledStep(ContextImpl& context, const RigidBodyIntegrator& integrator, vector<BodyState>& states,
@@ -131,7 +154,8 @@ void RigidLangevinStepKernelBase::takeCoupledStep(ContextImpl& context, const Ri
     if (periodic)
         context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     CoupledStepParameters step = {integrator.getStepSize(), integrator.getViscosity(), BOLTZ*integrator.getTemperature(), periodic ? box : NULL};
-    coupledStep->take(states, forces, step, chooseCoupledSolve(integrator, interactions->getNumBlobs()), normal, mobility, parallel);
+    const CoupledSolve solve = chooseCoupledSolve(integrator, interactions->getNumBlobs(), periodic);
+    coupledStep->take(states, forces, step, solve, normal, solve.spectral ? stepMobility(integrator, solve) : mobility, parallel);
     lastKrylovIterations = coupledStep->getLastIterations();
 }
 
@@ -267,9 +291,9 @@ void RigidLangevinStepKernelBase::takeBrownianStep(ContextImpl& context, const R
     if (periodic)
         context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     CoupledStepParameters step = {integrator.getStepSize(), integrator.getViscosity(), BOLTZ*integrator.getTemperature(), periodic ? box : NULL};
-    CoupledSolve solve = (interactions ? chooseCoupledSolve(integrator, interactions->getNumBlobs()) :
-                          CoupledSolve{false, integrator.getHydrodynamicTolerance(), KrylovMaxIterations});
-    brownianStep->take(states, forces, step, solve, coefficients, hostNormals(), blobMobility());
+    CoupledSolve solve = (interactions ? chooseCoupledSolve(integrator, interactions->getNumBlobs(), periodic) :
+                          CoupledSolve{false, integrator.getHydrodynamicTolerance(), KrylovMaxIterations, false});
+    brownianStep->take(states, forces, step, solve, coefficients, hostNormals(), stepMobility(integrator, solve));
     lastKrylovIterations = brownianStep->getLastIterations();
     uploadBodyStates(context, states);
     finishHostStep(context, integrator.getStepSize());

@@ -68,6 +68,7 @@ private:
     std::unique_ptr<BodyMobility> bodyMobility;
     std::vector<int> firstCoordinate;
     double driftLength;  ///< l of the random finite difference (nm)
+    std::vector<double> driftAngle;  ///< per type: the turn (radians) that moves its farthest blob by l, at most 1
     HydrodynamicInteractions::KrylovIterations lastIterations = {0, 0, 0};
 };
 

@@ -17,6 +17,7 @@ struct CoupledSolve {
     bool krylov;         ///< matrix-free (HydrodynamicInteractions::krylovFrictionStep) rather than dense
     double tolerance;    ///< the matrix-free solves' relative tolerance
     int maxIterations;   ///< each matrix-free solve's iteration limit (it throws beyond)
+    bool spectral;       ///< matrix-free in a periodic box with the positively split Ewald products (SpectralBlobMobility)
 };
 
 /** The parameters of one step. */

@@ -6,6 +6,7 @@
 #include "internal/CoupledBodyStep.h"
 #include "internal/HydrodynamicInteractions.h"
 #include "internal/RigidBodyModel.h"
+#include "internal/SpectralBlobMobility.h"
 #include "internal/StepCoefficients.h"
 #include "internal/windowsExportRigidLangevin.h"
 #include <functional>
@@ -96,14 +97,30 @@ protected:
      */
     void advanceCoupledBodies(OpenMM::ContextImpl& context, const RigidBodyIntegrator& integrator);
     /**
-     * How this platform solves the coupled step of numBlobs blobs: as the integrator's hydrodynamic
-     * solver settings say, or, on every platform but Reference, as the environment variable
-     * RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER (dense or krylov; for the tests, which run both on small
-     * systems) overrides them. Throws on any other value of the variable.
+     * How this platform solves the coupled step of numBlobs blobs (in a periodic box if periodic):
+     * as the integrator's hydrodynamic solver settings say (AutomaticSolver: matrix-free from
+     * getKrylovMinBlobs() blobs, and in a periodic box spectral as SpectralMinBlobs and
+     * SpectralLooseTolerance say), or, on every
+     * platform but Reference, as the environment variable RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER (dense,
+     * krylov or spectral; for the tests, which run each path on small systems) overrides them.
+     * Throws on any other value of the variable, and where the matrix-free step's dense Ewald sum
+     * (KrylovSolver in a periodic box) would exceed the integrator's setHydrodynamicMemoryBudget().
      */
-    CoupledSolve chooseCoupledSolve(const RigidBodyIntegrator& integrator, int numBlobs) const;
+    CoupledSolve chooseCoupledSolve(const RigidBodyIntegrator& integrator, int numBlobs, bool periodic) const;
+    /** The blobs' mobility products for a matrix-free step solved as solve says: the platform's (blobMobility()) or the spectral solver's. */
+    BlobMobility& stepMobility(const RigidBodyIntegrator& integrator, const CoupledSolve& solve);
     /** Each matrix-free solve's iteration limit: beyond it the step throws, naming the solve. */
     static const int KrylovMaxIterations = 1000;
+    /**
+     * When AutomaticSolver takes the positively split Ewald products in a periodic box (if it is
+     * matrix-free at all): from SpectralMinBlobs blobs, or at any size at a tolerance of
+     * SpectralLooseTolerance or looser. Measured on the CPU platform (2 threads, one-blob spheres at
+     * 5% volume fraction; benchmarks/platforms/periodic_hydrodynamics.py): at tolerance 1e-10 the
+     * dense Ewald sum formed once a step is the cheaper at 300 blobs and the PSE from 1000; at 1e-6
+     * the PSE from 300, at 1e-5 and looser from 100.
+     */
+    static const int SpectralMinBlobs = 500;
+    static constexpr double SpectralLooseTolerance = 1e-5;
     /**
      * The step of bodies coupled through the solvent (CoupledBodyStep), with the integrator's
      * settings and the System's periodic box: every platform takes this step, supplying the bodies'
@@ -130,6 +147,8 @@ protected:
     std::unique_ptr<CoupledBodyStep> coupledStep;
     /** The overdamped step, once RigidBrownianIntegrator has taken one. */
     std::unique_ptr<BrownianBodyStep> brownianStep;
+    /** The spectral solver's products, once it has been used. */
+    std::unique_ptr<SpectralBlobMobility> spectralMobility;
     int removerFrequency, removerIndex;
 private:
     void updateCoefficients(OpenMM::ContextImpl& context, const RigidBodyIntegrator& integrator);
