@@ -76,15 +76,9 @@ Result KrylovSolvers::gmres(const Operator& a, const Operator& preconditioner, c
     Result report = {Converged, 0, tolerance, maxIterations, 0, 0, 0};
     if (x.size() != b.size())
         x = VectorXd::Zero(b.size());
+    if (settledByRightHandSide(b, x, report))
+        return report;
     const double norm = b.norm();
-    if (!std::isfinite(norm)) {
-        report.outcome = NotFinite;
-        return report;
-    }
-    if (norm == 0) {
-        x.setZero();
-        return report;
-    }
     VectorXd ax;
     while (true) {
         a(x, ax);  // the true residual at each restart, not the cycle's estimate

@@ -73,6 +73,15 @@ void KrylovSolvers::scaledStart(const Operator& a, const VectorXd& guess, const 
     startProduct = alpha*product;
 }
 
+bool KrylovSolvers::settledByRightHandSide(const VectorXd& b, VectorXd& x, Result& report) {
+    const double norm = b.norm();
+    if (!std::isfinite(norm))
+        report.outcome = NotFinite;
+    else if (norm == 0)
+        x.setZero();
+    return !std::isfinite(norm) || norm == 0;
+}
+
 Result KrylovSolvers::conjugateGradient(const Operator& a, const Operator& preconditioner, const VectorXd& b, VectorXd& x, double tolerance, int maxIterations,
                                         const VectorXd* startProduct) {
     Result report = {Converged, 0, tolerance, maxIterations, 0, 0, 0};
@@ -82,15 +91,9 @@ Result KrylovSolvers::conjugateGradient(const Operator& a, const Operator& preco
     const bool productGiven = (startProduct != nullptr && startProduct->size() == n && !fromZero);
     if (fromZero)
         x = VectorXd::Zero(n);
+    if (settledByRightHandSide(b, x, report))
+        return report;
     const double bNorm = b.norm();
-    if (!std::isfinite(bNorm)) {
-        report.outcome = NotFinite;
-        return report;
-    }
-    if (bNorm == 0) {
-        x.setZero();
-        return report;
-    }
     VectorXd r(n), z(n), p(n), ap(n);
     if (productGiven)
         ap = *startProduct;

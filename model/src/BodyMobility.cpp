@@ -91,10 +91,11 @@ void BodyMobility::blockPreconditioner(const vector<BodyState>& states, const Ve
     }
 }
 
-VectorXd BodyMobility::unitScales() const {
+VectorXd BodyMobility::unitScales(double& mu0) const {
     // Blob forces stay as they are; a body's translational velocity is measured in mu0 (a blob of
     // the smallest radius a under unit force) and its rotation rates in mu0/a.
-    const double a = interactions.getSmallestBlobRadius(), mu0 = 1/(6*M_PI*a);
+    const double a = interactions.getSmallestBlobRadius();
+    mu0 = 1/(6*M_PI*a);
     VectorXd d = VectorXd::Ones(3*numBlobs+interactions.getNumCoordinates());
     for (int b = 0; b < model.getNumBodies(); b++) {
         const int first = 3*numBlobs+interactions.getFirstCoordinate(b);
@@ -117,8 +118,8 @@ int BodyMobility::solve(const vector<BodyState>& states, const VectorXd& g, cons
     // are in mu0 per unit force, forces and torques per a: without it, in nm, the blobs' rows (about
     // mu0 ~ 1e-4 of the bodies') held no weight in the residual and the velocities from them were wrong
     // by up to 7% at any tolerance.
-    const VectorXd d = unitScales();
-    const double mu0 = d[d.size()-coordinates];
+    double mu0;
+    const VectorXd d = unitScales(mu0);
     KrylovSolvers::Operator product = [&] (const VectorXd& in, VectorXd& result) {
         saddleProduct(states, mobility, d.cwiseProduct(in), result);
         result = d.cwiseProduct(result)/mu0;
@@ -139,15 +140,10 @@ int BodyMobility::blobNoise(const vector<BodyState>& states, const VectorXd& w, 
     placeBlobs(states, mobility, box);
     // slip = L A^1/2 w with A = L^-1 M L^-T, L L^T every body's own blocks of M: covariance L A L^T = M,
     // in the iterations of the well-conditioned A rather than of M.
-    KrylovSolvers::Operator preconditioned = [&] (const VectorXd& v, VectorXd& out) {
-        VectorXd in, product;
-        interactions.applySelfFactor(states, HydrodynamicInteractions::InverseLowerTranspose, v, in);
-        mobility.multiply(in, product);
-        interactions.applySelfFactor(states, HydrodynamicInteractions::InverseLower, product, out);
-    };
     VectorXd root;
     int iterations = checkHydrodynamicSolve("the Lanczos square root of the blobs' mobility for the noise (preconditioned by every body's own blocks)",
-                                            KrylovSolvers::lanczosPower(preconditioned, w, root, 0.5, tolerance, maxIterations), model.getNumBodies(), numBlobs);
+                                            KrylovSolvers::lanczosPower(interactions.preconditionedMobility(states, mobility), w, root, 0.5, tolerance,
+                                                                        maxIterations), model.getNumBodies(), numBlobs);
     interactions.applySelfFactor(states, HydrodynamicInteractions::Lower, root, slip);
     return iterations;
 }

@@ -156,6 +156,15 @@ void HydrodynamicInteractions::applySelfFactor(const vector<BodyState>& states, 
     }
 }
 
+KrylovSolvers::Operator HydrodynamicInteractions::preconditionedMobility(const vector<BodyState>& states, BlobMobility& mobility) const {
+    return [this, &states, &mobility] (const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+        Eigen::VectorXd in, product;
+        applySelfFactor(states, InverseLowerTranspose, v, in);
+        mobility.multiply(in, product);
+        applySelfFactor(states, InverseLower, product, out);
+    };
+}
+
 double HydrodynamicInteractions::getSmallestBlobRadius() const {
     double smallest = std::numeric_limits<double>::infinity();
     for (const TypeBlobs& type : types)
@@ -286,22 +295,11 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
         blobs.frictionScale = c;
     }
     // Blob vectors (3 per blob, lab frame) to and from the bodies' frames.
-    auto bodyBlobs = [&] (const VectorXd& lab, int b, bool toBody) {
-        const int n = types[model.getBodyType(b)].coords.size();
-        VectorXd out(3*n);
-        for (int k = 0; k < n; k++) {
-            Vec3 v(lab[3*(firstBlob[b]+k)], lab[3*(firstBlob[b]+k)+1], lab[3*(firstBlob[b]+k)+2]);
-            Vec3 w = (toBody ? BodyDynamics::toBody(states[b].rotation, v) : BodyDynamics::toLab(states[b].rotation, v));
-            out.segment<3>(3*k) << w[0], w[1], w[2];
-        }
-        return out;
+    auto bodyBlobs = [&] (const VectorXd& lab, int b) {
+        return turnBlobs(lab.segment(3*firstBlob[b], 3*types[model.getBodyType(b)].coords.size()), states[b].rotation, true);
     };
     auto toLabBlobs = [&] (const VectorXd& frame, int b, VectorXd& lab) {
-        const int n = types[model.getBodyType(b)].coords.size();
-        for (int k = 0; k < n; k++) {
-            Vec3 w = BodyDynamics::toLab(states[b].rotation, Vec3(frame[3*k], frame[3*k+1], frame[3*k+2]));
-            lab.segment<3>(3*(firstBlob[b]+k)) << w[0], w[1], w[2];
-        }
+        lab.segment(3*firstBlob[b], frame.size()) = turnBlobs(frame, states[b].rotation, false);
     };
     // K' u: the blobs' lab velocities; K'^T f: the generalised forces of blob forces f.
     auto applyK = [&] (const VectorXd& v, VectorXd& out) {
@@ -315,7 +313,7 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
         out.resize(getNumCoordinates());
         for (int b = 0; b < numBodies; b++) {
             const TypeBlobs& blobs = types[model.getBodyType(b)];
-            out.segment(firstCoordinate[b], blobs.velocities.cols()) = blobs.velocities.transpose()*bodyBlobs(f, b, true);
+            out.segment(firstCoordinate[b], blobs.velocities.cols()) = blobs.velocities.transpose()*bodyBlobs(f, b);
         }
     };
     blobMobility.setBlobs(positions, radii, boxVectors);
@@ -327,7 +325,7 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
         out.resize(in.size());
         for (int b = 0; b < numBodies; b++) {
             const TypeBlobs& blobs = types[model.getBodyType(b)];
-            toLabBlobs(blobs.friction.solve(bodyBlobs(in, b, true)), b, out);
+            toLabBlobs(blobs.friction.solve(bodyBlobs(in, b)), b, out);
         }
     };
     KrylovIterations iterations = {0, 0, 0};
@@ -337,12 +335,7 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
         // Noise of covariance M^-1 as L^-T A^-1/2 w, with A = L^-1 M L^-T preconditioned by every
         // body's own blocks L L^T: one Lanczos on the well-conditioned A, where M^-1 (M^1/2 w) took a
         // Lanczos on M and conjugate gradients (about twice the products, and more as bodies are added).
-        KrylovSolvers::Operator preconditioned = [&] (const VectorXd& v, VectorXd& out) {
-            VectorXd in, product;
-            applySelfFactor(states, InverseLowerTranspose, v, in);
-            mobility(in, product);
-            applySelfFactor(states, InverseLower, product, out);
-        };
+        KrylovSolvers::Operator preconditioned = preconditionedMobility(states, blobMobility);
         VectorXd root, solved;
         iterations.noise = checkHydrodynamicSolve("the Lanczos inverse square root of the blobs' mobility for the noise (preconditioned by every body's own blocks)",
                                                   KrylovSolvers::lanczosPower(preconditioned, normals, root, -0.5, tolerance, maxIterations), numBodies, numBlobs);

@@ -105,6 +105,22 @@ const vector<int>& RigidBodyIntegrator::getRigidBodyParticles(int index) const {
     return bodies[index];
 }
 
+namespace {
+
+/** Throw unless referencePositions holds a finite position for each of the body's particles: "<what>:
+ *  <needs> the positions of the body's N <particles>, got M positions", or naming the one not finite. */
+void checkReferencePositions(const string& what, const string& needs, const string& particles, const vector<int>& body, const vector<Vec3>& referencePositions) {
+    if (referencePositions.size() != body.size())
+        throw OpenMMException(what+": "+needs+" the positions of the body's "+std::to_string(body.size())+" "+particles+", got "+
+                std::to_string(referencePositions.size())+" positions");
+    for (int i = 0; i < (int) referencePositions.size(); i++)
+        for (int k = 0; k < 3; k++)
+            if (!std::isfinite(referencePositions[i][k]))
+                throw OpenMMException(what+": reference position "+std::to_string(i)+" (particle "+std::to_string(body[i])+") is not finite");
+}
+
+} // namespace
+
 void RigidBodyIntegrator::setBodyResistance(int index, const vector<double>& tensor, const Vec3& origin, const vector<Vec3>& referencePositions) {
     checkNotBound("setBodyResistance");
     checkBodyIndex(index, "setBodyResistance");
@@ -120,13 +136,7 @@ void RigidBodyIntegrator::setBodyResistance(int index, const vector<double>& ten
     }
     if (!std::isfinite(origin[0]) || !std::isfinite(origin[1]) || !std::isfinite(origin[2]))
         throw OpenMMException(what+": the origin of the resistance tensor is not finite");
-    if (referencePositions.size() != bodies[index].size())
-        throw OpenMMException(what+": the tensor needs the positions of the body's "+std::to_string(bodies[index].size())+" particles it was computed for, got "+
-                std::to_string(referencePositions.size())+" positions");
-    for (int i = 0; i < (int) referencePositions.size(); i++)
-        for (int k = 0; k < 3; k++)
-            if (!std::isfinite(referencePositions[i][k]))
-                throw OpenMMException(what+": reference position "+std::to_string(i)+" (particle "+std::to_string(bodies[index][i])+") is not finite");
+    checkReferencePositions(what, "the tensor needs", "particles it was computed for", bodies[index], referencePositions);
     resistances[index] = {tensor, origin, referencePositions};
 }
 
@@ -202,13 +212,7 @@ void RigidBodyIntegrator::setBodyBlobs(int index, const vector<Vec3>& blobPositi
         if (!(blobRadii[k] > 0) || !std::isfinite(blobRadii[k]))
             throw OpenMMException(what+": blob "+std::to_string(k)+" has radius "+std::to_string(blobRadii[k])+" nm; a blob's radius must be positive and finite");
     }
-    if (referencePositions.size() != bodies[index].size())
-        throw OpenMMException(what+": the blobs need the positions of the body's "+std::to_string(bodies[index].size())+" particles they were placed around, got "+
-                std::to_string(referencePositions.size())+" positions");
-    for (int i = 0; i < (int) referencePositions.size(); i++)
-        for (int k = 0; k < 3; k++)
-            if (!std::isfinite(referencePositions[i][k]))
-                throw OpenMMException(what+": reference position "+std::to_string(i)+" (particle "+std::to_string(bodies[index][i])+") is not finite");
+    checkReferencePositions(what, "the blobs need", "particles they were placed around", bodies[index], referencePositions);
     blobs[index] = {blobPositions, blobRadii, referencePositions};
 }
 

@@ -81,6 +81,12 @@ OPENMM_EXPORT_HYDRODYNAMICS Result conjugateGradient(const Operator& a, const Op
                                                      double tolerance, int maxIterations, const Eigen::VectorXd* startProduct = nullptr);
 
 /**
+ * Whether b settles a solve before any product: |b| not finite (report NotFinite) or b = 0 (x = 0,
+ * Converged). Shared by conjugateGradient() and gmres(); report is their opening one.
+ */
+bool settledByRightHandSide(const Eigen::VectorXd& b, Eigen::VectorXd& x, Result& report);
+
+/**
  * A warm start for conjugate gradients on A x = b from a guess g (the solution of a similar solve,
  * such as the last step's): start = alpha g, alpha = g^T b/(g^T A g), the multiple of g nearest the
  * solution in A's norm, so never farther from it than zero is (alpha = 0 where g^T A g is not

@@ -52,8 +52,8 @@ public:
 private:
     /** Set mobility's blobs from states (checked first), and the blob offsets of every body. */
     void placeBlobs(const std::vector<BodyState>& states, BlobMobility& mobility, const OpenMM::Vec3* box);
-    /** The scale of every unknown of the saddle-point problem (see solve()). */
-    Eigen::VectorXd unitScales() const;
+    /** The scale of every unknown of the saddle-point problem (see solve()), and mu0, a blob's mobility at the smallest radius. */
+    Eigen::VectorXd unitScales(double& mu0) const;
     /** The saddle-point operator and its block preconditioner for the bodies in states. */
     void saddleProduct(const std::vector<BodyState>& states, BlobMobility& mobility, const Eigen::VectorXd& in, Eigen::VectorXd& out) const;
     void blockPreconditioner(const std::vector<BodyState>& states, const Eigen::VectorXd& in, Eigen::VectorXd& out) const;

@@ -125,6 +125,11 @@ public:
      * The Krylov noise is taken through it, preconditioned (KrylovSolvers::lanczosPower).
      */
     void applySelfFactor(const std::vector<BodyState>& states, SelfFactor which, const Eigen::VectorXd& in, Eigen::VectorXd& out) const;
+    /**
+     * The operator L^-1 M L^-T (M the blobs' mobility by mobility's products, L applySelfFactor()'s),
+     * whose Lanczos iterations give the noise of either step; states and mobility must outlive it.
+     */
+    KrylovSolvers::Operator preconditionedMobility(const std::vector<BodyState>& states, BlobMobility& mobility) const;
     /** Throw, naming body and blob, where blobs placed from states cannot be solved (HydrodynamicInteractions' checks, shared by every path). */
     void validateBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors) const;
 private:
