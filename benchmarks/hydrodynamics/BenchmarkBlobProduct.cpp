@@ -1,13 +1,16 @@
 // Times the blobs' open-space RPY mobility product M f three ways, for 1e2 to 1e4 blobs of radius
 // 1 nm at 5% volume fraction in a cube (every pair evaluated: in open space the product has no
-// cutoff):
+// cutoff); with --geometry wall, the regularised Rotne-Prager-Blake product of the same blobs above a no-slip
+// wall a radius below the cube; with --precision single, the tiled product's pair terms in single
+// precision (TiledBlobProduct::setSinglePrecision), which the peers' double precision then checks:
 //
-//   tiled   TiledBlobProduct, what HostBlobMobility runs matrix-free in open space now;
-//   old     CoupledResistanceMath::mobilityProduct, the scalar pair loop it ran before;
+//   tiled   TiledBlobProduct, what HostBlobMobility runs matrix-free now;
+//   old     the scalar pair loop it ran before (CoupledResistanceMath::mobilityProduct;
+//           RotnePragerBlake::mobilityProduct above the wall);
 //   stored  M formed once (as HostBlobMobility does below its stored-matrix limit, both triangles)
 //           and applied as a matrix-vector product on the threads: its setup time and its product.
 //
-//   benchmark_blob_product results.csv [--sizes 100,300,1000,1350,3000,10000] [--old-max-blobs 10000]
+//   benchmark_blob_product results.csv [--geometry open|wall] [--precision double|single] [--sizes 100,300,1000,1350,3000,10000] [--old-max-blobs 10000]
 //                          [--stored-max-blobs 1350] [--pairs 5] [--block-seconds 0.3]
 //
 // Each peer is timed against the tiled product in alternating pairs of blocks (the order reversed
@@ -19,6 +22,7 @@
 
 #include "internal/BlobMobility.h"
 #include "internal/CoupledResistanceMath.h"
+#include "internal/RotnePragerBlake.h"
 #include "internal/TiledBlobProduct.h"
 #include "openmm/internal/ThreadPool.h"
 #include "BenchmarkTiming.h"
@@ -33,7 +37,7 @@ using OpenMM::Vec3;
 
 namespace {
 
-const double Radius = 1.0, VolumeFraction = 0.05;
+const double Radius = 1.0, VolumeFraction = 0.05, WallZ = -Radius;
 
 struct Row {
     int blobs = 0;
@@ -71,7 +75,7 @@ void againstTiled(const std::function<void ()>& tiled, const std::function<void 
     }
 }
 
-Row measure(int n, int oldMax, int storedMax, int pairs, double blockSeconds, OpenMM::ThreadPool& pool) {
+Row measure(int n, bool wall, bool single, int oldMax, int storedMax, int pairs, double blockSeconds, OpenMM::ThreadPool& pool) {
     Row row;
     row.blobs = n;
     KrylovSolvers::ParallelFor parallel = poolParallel(pool);
@@ -80,17 +84,29 @@ Row measure(int n, int oldMax, int storedMax, int pairs, double blockSeconds, Op
     makeBlobs(n, positions, radii);
     Eigen::VectorXd f = Eigen::VectorXd::Random(3*n), out, peerOut;
     TiledBlobProduct tiled;
-    tiled.setBlobs(positions, radii);
+    tiled.setSinglePrecision(single);
+    if (wall)
+        tiled.setBlobsAboveWall(positions, radii, WallZ);
+    else
+        tiled.setBlobs(positions, radii);
     auto tiledProduct = [&] () { tiled.multiply(f, out, parallel); };
     if (n <= oldMax) {
-        auto oldProduct = [&] () { CoupledResistanceMath::mobilityProduct(positions, radii, f, peerOut, parallel); };
+        auto oldProduct = [&] () {
+            if (wall)
+                RotnePragerBlake::mobilityProduct(positions, radii, WallZ, f, peerOut, parallel);
+            else
+                CoupledResistanceMath::mobilityProduct(positions, radii, f, peerOut, parallel);
+        };
         againstTiled(tiledProduct, oldProduct, n, pairs, blockSeconds, row, row.oldRatio, row.oldRatioSe, row.oldNs, row.oldNsSe);
         row.error = (out-peerOut).norm()/peerOut.norm();
     }
     if (n <= storedMax) {
         // As HostBlobMobility stores M (at any size here): both triangles, rows shared out.
         Eigen::MatrixXd stored;
-        row.storedSetupMs = 1e3*seconds([&] () { stored = CoupledResistanceMath::mobilityMatrix(positions, radii, parallel).selfadjointView<Eigen::Lower>(); });
+        row.storedSetupMs = 1e3*seconds([&] () {
+            stored = (wall ? RotnePragerBlake::mobilityMatrix(positions, radii, WallZ, parallel)
+                           : CoupledResistanceMath::mobilityMatrix(positions, radii, parallel)).selfadjointView<Eigen::Lower>();
+        });
         peerOut.resize(3*n);
         auto storedProduct = [&] () {
             parallel(n, [&] (int begin, int end) {
@@ -123,28 +139,31 @@ void write(std::ofstream& csv, const Row& r) {
 
 int main(int argc, char** argv) {
     if (argc < 2 || argv[1][0] == '-') {
-        std::cerr << "usage: " << argv[0] << " results.csv [--sizes 100,300,1000,1350,3000,10000] [--old-max-blobs 10000] [--stored-max-blobs 1350]"
+        std::cerr << "usage: " << argv[0] << " results.csv [--geometry open|wall] [--precision double|single] [--sizes 100,300,1000,1350,3000,10000] [--old-max-blobs 10000] [--stored-max-blobs 1350]"
                      " [--pairs 5] [--block-seconds 0.3]" << std::endl;
         return 2;
     }
     vector<int> sizes = {100, 300, 1000, 1350, 3000, 10000};
     int oldMax = 10000, storedMax = HostBlobMobility::MaxStoredBlobs, pairs = 5;
     double blockSeconds = 0.3;
-    if (!readOptions(argc, argv, {{"--sizes", [&] (const char* v) { sizes = parseList<int>(v); }},
+    bool wall = false, single = false;
+    if (!readOptions(argc, argv, {{"--geometry", [&] (const char* v) { wall = (std::string(v) == "wall"); }},
+                                  {"--precision", [&] (const char* v) { single = (std::string(v) == "single"); }},
+                                  {"--sizes", [&] (const char* v) { sizes = parseList<int>(v); }},
                                   {"--old-max-blobs", [&] (const char* v) { oldMax = std::atoi(v); }},
                                   {"--stored-max-blobs", [&] (const char* v) { storedMax = std::atoi(v); }},
                                   {"--pairs", [&] (const char* v) { pairs = std::max(2, std::atoi(v)); }},
                                   {"--block-seconds", [&] (const char* v) { blockSeconds = std::atof(v); }}}))
         return 2;
     OpenMM::ThreadPool pool(numThreads());
-    printf("Open-space RPY product M f, blobs of radius %g nm at volume fraction %g in a cube; %d thread(s); %d alternating pairs of %g s blocks\n",
-           Radius, VolumeFraction, numThreads(), pairs, blockSeconds);
+    printf("%s product M f (tiled in %s precision), blobs of radius %g nm at volume fraction %g in a cube; %d thread(s); %d alternating pairs of %g s blocks\n",
+           wall ? "Rotne-Prager-Blake (a no-slip wall a radius below the cube)" : "Open-space RPY", single ? "single" : "double", Radius, VolumeFraction, numThreads(), pairs, blockSeconds);
     printf("%7s %20s %15s %13s %15s %9s %13s %15s %9s\n", "blobs", "tiled ms", "ns/pair/core", "old/tiled", "old ns/pair", "M setup ms", "stored/tiled",
            "stored ns/pair", "error");
     std::ofstream csv(argv[1]);
     csv << "blobs,threads,tiled_ms,tiled_ms_se,tiled_products_per_s,tiled_ns_per_pair_core,tiled_ns_se,old_ratio,old_ratio_se,old_ns_per_pair_core,"
            "old_ns_se,stored_setup_ms,stored_ratio,stored_ratio_se,stored_ns_per_pair_core,stored_ns_se,relative_error\n";
     for (int n : sizes)
-        write(csv, measure(n, oldMax, storedMax, pairs, blockSeconds, pool));
+        write(csv, measure(n, wall, single, oldMax, storedMax, pairs, blockSeconds, pool));
     return 0;
 }

@@ -20,6 +20,10 @@ void HostBlobMobility::setWall(double wallZ) {
     this->wallZ = wallZ;
 }
 
+void HostBlobMobility::setTolerance(double tolerance) {
+    tiled.setSinglePrecision(tolerance >= SinglePrecisionTolerance);
+}
+
 void HostBlobMobility::setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors) {
     const std::string caller = "HostBlobMobility::setBlobs";
     if (wall && boxVectors != NULL)
@@ -30,7 +34,7 @@ void HostBlobMobility::setBlobs(const std::vector<OpenMM::Vec3>& positions, cons
     this->radii = radii;
     if (boxVectors != NULL)
         stored = PeriodicRotnePragerYamakawa(boxVectors).mobility(positions, radii, parallel);
-    else if ((int) positions.size() > (wall ? maxStoredBlobs : std::min(maxStoredBlobs, MaxStoredUnboundedBlobs)))
+    else if ((int) positions.size() > maxStoredBlobs)
         stored.resize(0, 0);
     else if (wall)
         stored = RotnePragerBlake::mobilityMatrix(positions, radii, wallZ, parallel);
@@ -38,7 +42,9 @@ void HostBlobMobility::setBlobs(const std::vector<OpenMM::Vec3>& positions, cons
         stored = CoupledResistanceMath::mobilityMatrix(positions, radii, parallel);
     if (stored.size() > 0)
         fillUpperTriangle();
-    else if (!wall)
+    else if (wall)
+        tiled.setBlobsAboveWall(positions, radii, wallZ);
+    else
         tiled.setBlobs(positions, radii);
 }
 
@@ -60,8 +66,6 @@ void HostBlobMobility::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out) 
             out.segment(3*begin, 3*(end-begin)).noalias() = stored.middleCols(3*begin, 3*(end-begin)).transpose()*f;
         });
     }
-    else if (wall)
-        RotnePragerBlake::mobilityProduct(positions, radii, wallZ, f, out, parallel);
     else
         tiled.multiply(f, out, parallel);
 }

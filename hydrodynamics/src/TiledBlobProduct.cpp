@@ -1,15 +1,15 @@
 #include "internal/TiledBlobProduct.h"
+#include "internal/RotnePragerBlake.h"
 #include "internal/RotnePragerYamakawa.h"
+#include "TiledBlobLanes.h"
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
 using namespace RigidLangevinPlugin;
+using namespace RigidLangevinPlugin::TiledBlobLanes;
 using OpenMM::Vec3;
 using std::vector;
-
-// The helpers below pass vectors by value only to each other, inlined into the clones.
-#pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace {
 
@@ -22,104 +22,109 @@ namespace {
 #define RIGIDLANGEVIN_TILED_CLONES
 #endif
 
-#define LANES_INLINE inline __attribute__((always_inline))
-
-// Four doubles as one value (GCC's and Clang's vector extensions: an AVX2 register in the AVX2
-// build, two SSE2 registers in the baseline one).
-const int Lanes = 4;
-typedef double vd __attribute__((vector_size(8*Lanes)));
-typedef decltype(vd{} < vd{}) vmask;
-
 /** Rows summed together over one tile: their partial sums stay in L1 while the tile is read. */
 const int RowBlock = 32;
-/** Pairs whose r^2 is outside these bounds skip the lanes: a float cannot hold 1/r^2 for them. */
-const double MinSquaredDistance = 1e-30, MaxSquaredDistance = 1e30;
 
-/** The blobs' arrays (padded to whole lanes) and the forces, as the pair loop reads them. */
-struct Blobs {
-    const double *x, *y, *z, *a, *a2, *fx, *fy, *fz;
-    int count, padded;
+/** Pairs whose scaled r^2 is outside these bounds skip the lanes (single-precision estimates of
+ *  1/sqrt, and in single precision 1/r^3, must not overflow or underflow). */
+template <class Real> struct SquaredDistanceBounds;
+template <> struct SquaredDistanceBounds<double> {
+    static constexpr double Min = 1e-30, Max = 1e30;
 };
-
-LANES_INLINE vd splat(double v) {
-    return vd{v, v, v, v};
-}
-
-LANES_INLINE vd load(const double* p) {
-    vd v;
-    std::memcpy(&v, p, sizeof(v));
-    return v;
-}
-
-/** 1/sqrt(r2) lane by lane, for r2 in [MinSquaredDistance, MaxSquaredDistance]: a single-precision
- *  estimate (12 bits) refined by two steps of third order, y (1 + e/2 + 3 e^2/8) with
- *  e = 1 - r2 y^2 (36 bits, then double precision's rounding): five operations a step. */
-LANES_INLINE vd inverseSqrt(vd r2) {
-#if defined(__x86_64__) || defined(__i386__)
-    typedef float vf __attribute__((vector_size(4*Lanes)));
-    vd y = __builtin_convertvector(__builtin_ia32_rsqrtps(__builtin_convertvector(r2, vf)), vd);
-    for (int step = 0; step < 2; step++) {
-        const vd e = 1-r2*(y*y);
-        y += (y*e)*(0.5+0.375*e);
-    }
-    return y;
-#else
-    return vd{1/std::sqrt(r2[0]), 1/std::sqrt(r2[1]), 1/std::sqrt(r2[2]), 1/std::sqrt(r2[3])};
-#endif
-}
+template <> struct SquaredDistanceBounds<float> {
+    static constexpr double Min = 1e-10, Max = 1e20;
+};
 
 /**
  * Row i's sum over the sources [begin, end) (whole lanes) of the pairs apart (r > a_i + a_j):
  * sum += that part of (M f)_i. masks[c] marks the lanes of chunk c left out (overlapping, the blob
  * itself, padding too far or too close for the lanes); returns whether any lane was.
  */
-LANES_INLINE bool addPairsApart(const Blobs& b, int i, int begin, int end, vmask* masks, double sum[3]) {
-    const vd xi = splat(b.x[i]), yi = splat(b.y[i]), zi = splat(b.z[i]), ai = splat(b.a[i]), ai2 = splat(b.a2[i]);
-    const vd isotropic0 = splat(1/(8*M_PI)), isotropic2 = splat(1/(24*M_PI)), zero = splat(0);
-    vd vx = zero, vy = zero, vz = zero;
-    vmask any = vmask{} != vmask{};
-    for (int j = begin, c = 0; j < end; j += Lanes, c++) {
-        const vd dx = load(b.x+j)-xi, dy = load(b.y+j)-yi, dz = load(b.z+j)-zi;
-        const vd r2 = dx*dx+dy*dy+dz*dz;
-        const vd reach = ai+load(b.a+j);
-        const vmask left = (r2 <= reach*reach) | (r2 < MinSquaredDistance) | (r2 > MaxSquaredDistance);
-        const vd inverse = inverseSqrt(r2), inverse2 = inverse*inverse;
-        const vd sigma2 = (ai2+load(b.a2+j))*inverse2;
+template <class Real, class Mask> LANES_INLINE bool addPairsApart(const Blobs<Real>& b, int i, int begin, int end, Mask* masks, double sum[3]) {
+    typedef typename Lanes<Real>::Vector V;
+    const V ai = splat<Real>(b.a[i]), ai2 = splat<Real>(b.a2[i]), zero = splat<Real>(0);
+    const Real isotropic0 = 1/(8*M_PI), isotropic2 = 1/(24*M_PI);
+    V vx = zero, vy = zero, vz = zero;
+    Mask any = Mask{} != Mask{};
+    for (int j = begin, c = 0; j < end; j += Lanes<Real>::Count, c++) {
+        const V dx = difference<V>(b.x+j, b.x[i]), dy = difference<V>(b.y+j, b.y[i]), dz = difference<V>(b.z+j, b.z[i]);
+        const V r2 = dx*dx+dy*dy+dz*dz;
+        const V reach = ai+load<V>(b.a+j);
+        const Mask left = (r2 <= reach*reach) | (r2 < (Real) SquaredDistanceBounds<Real>::Min) | (r2 > (Real) SquaredDistanceBounds<Real>::Max);
+        const V inverse = inverseSqrt<Real>(r2), inverse2 = inverse*inverse;
+        const V sigma2 = (ai2+load<V>(b.a2+j))*inverse2;
         // mu_ij = [(1 + sigma2/3) I + (1 - sigma2) d d^T/r^2]/(8 pi r), sigma2 = (a_i^2 + a_j^2)/r^2.
-        const vd isotropic = inverse*(isotropic0+isotropic2*sigma2);
-        const vd dyadic = inverse*inverse2*(isotropic0-isotropic0*sigma2);
-        const vd fx = load(b.fx+j), fy = load(b.fy+j), fz = load(b.fz+j);
-        const vd along = left ? zero : dyadic*(dx*fx+dy*fy+dz*fz);
-        const vd across = left ? zero : isotropic;
+        const V isotropic = inverse*(isotropic0+isotropic2*sigma2);
+        const V dyadic = inverse*inverse2*(isotropic0-isotropic0*sigma2);
+        const V fx = load<V>(b.fx+j), fy = load<V>(b.fy+j), fz = load<V>(b.fz+j);
+        const V along = left ? zero : dyadic*(dx*fx+dy*fy+dz*fz);
+        const V across = left ? zero : isotropic;
         vx += across*fx+along*dx;
         vy += across*fy+along*dy;
         vz += across*fz+along*dz;
         masks[c] = left;
         any |= left;
     }
-    sum[0] += (vx[0]+vx[1])+(vx[2]+vx[3]);
-    sum[1] += (vy[0]+vy[1])+(vy[2]+vy[3]);
-    sum[2] += (vz[0]+vz[1])+(vz[2]+vz[3]);
-    return (any[0] | any[1] | any[2] | any[3]) != 0;
+    sum[0] += laneSum(vx);
+    sum[1] += laneSum(vy);
+    sum[2] += laneSum(vz);
+    for (int lane = 0; lane < Lanes<Real>::Count; lane++)
+        if (any[lane])
+            return true;
+    return false;
 }
 
-/** Add the pairs addPairsApart() left out of row i's sum (masks), each block exactly. */
-inline void addPairsLeftOut(const Blobs& b, int i, int begin, int end, const vmask* masks, double sum[3]) {
-    for (int j = begin, c = 0; j < end; j += Lanes, c++)
-        for (int lane = 0; lane < Lanes; lane++) {
+/** Add the pairs addPairsApart() left out of row i's sum (masks), each block exactly in double. */
+template <class Real, class Mask> inline void addPairsLeftOut(const Blobs<Real>& b, int i, int begin, int end, const Mask* masks, double sum[3]) {
+    for (int j = begin, c = 0; j < end; j += Lanes<Real>::Count, c++)
+        for (int lane = 0; lane < Lanes<Real>::Count; lane++) {
             const int k = j+lane;
             if (masks[c][lane] == 0 || k == i || k >= b.count)
                 continue;
             double block[9];
-            RotnePragerYamakawa::mobilityBlock(b.x[k]-b.x[i], b.y[k]-b.y[i], b.z[k]-b.z[i], b.a[i], b.a[k], block);
+            RotnePragerYamakawa::mobilityBlock(b.x[k]-b.x[i], b.y[k]-b.y[i], b.z[k]-b.z[i], b.exactA[i], b.exactA[k], block);
             for (int row = 0; row < 3; row++)
-                sum[row] += block[3*row]*b.fx[k]+block[3*row+1]*b.fy[k]+block[3*row+2]*b.fz[k];
+                sum[row] += block[3*row]*b.exactFx[k]+block[3*row+1]*b.exactFy[k]+block[3*row+2]*b.exactFz[k];
         }
 }
 
-/** out (3 per blob) = M f for the rows [begin, end): each block of rows against every tile in turn. */
-RIGIDLANGEVIN_TILED_CLONES void multiplyRows(const Blobs& b, int begin, int end, double* out) {
-    vmask masks[TiledBlobProduct::Tile/Lanes];
+/**
+ * Row i's sum over the sources [begin, end) (whole lanes) of the wall's image part of the pairs
+ * (RotnePragerBlake::imageCoefficients(), the same formulas in lanes): every source, blob i's own
+ * image included (the wall's part of its self-mobility), since the image part is smooth wherever
+ * both blobs' evaluated heights are at least their radii. R^2 >= (h_i + h_j)^2 > 0: no lane is left out.
+ */
+template <class Real> LANES_INLINE void addImagePairs(const Blobs<Real>& b, int i, int begin, int end, double sum[3]) {
+    typedef typename Lanes<Real>::Vector V;
+    const V hi = splat<Real>(b.h[i]), ai2 = splat<Real>(b.a2[i]), zero = splat<Real>(0);
+    V vx = zero, vy = zero, vz = zero;
+    for (int j = begin; j < end; j += Lanes<Real>::Count) {
+        const V rx = -difference<V>(b.x+j, b.x[i]), ry = -difference<V>(b.y+j, b.y[i]), hj = load<V>(b.h+j), aj2 = load<V>(b.a2+j);
+        const V rz = hi+hj, rz2 = rz*rz;
+        const V u = inverseSqrt<Real>(rx*rx+ry*ry+rz2), u2 = u*u, u3 = u*u2;
+        // The coefficients as polynomials in u^2 (Horner), grouped as imageCoefficients() writes them.
+        const V p = ai2*aj2, q = ai2*hj+aj2*hi, hihj = hi*hj, w = p*rz2, hj2 = 2*hj;
+        const V c0 = -u*(1+u2*((2*hihj+(ai2+aj2)*(Real) (1.0/3))-u2*((2*rz*q+p*(Real) (2.0/3))-u2*((Real) (10.0/3)*w))));
+        const V c1 = -u3*(1-u2*((6*hihj+ai2+aj2)-u2*((10*rz*q+p*(Real) (10.0/3))-u2*((Real) (70.0/3)*w))));
+        const V c2 = u3*(hj2-u2*((12*hihj+2*aj2)*rz+2*q-u2*((20*rz*q+(Real) (40.0/3)*p)*rz-u2*((Real) (140.0/3)*w*rz))));
+        const V c3 = u3*(hj2+u2*(hj2*(ai2-aj2)-u2*((Real) (20.0/3)*p*rz)));
+        const V c4 = u3*(-hj2*hj2+u2*((4*aj2*(hj*hj-hi*hi)-8*ai2*hj*rz-p*(Real) (8.0/3))+u2*(20*w)));
+        const V fx = load<V>(b.fx+j), fy = load<V>(b.fy+j), fz = load<V>(b.fz+j);
+        const V along = rx*fx+ry*fy+rz*fz, dyadic = c1*along+c2*fz;
+        vx += c0*fx+dyadic*rx;
+        vy += c0*fy+dyadic*ry;
+        vz += c0*fz+dyadic*rz+c3*along+c4*fz;
+    }
+    const double scale = 1/(8*M_PI);
+    sum[0] += scale*laneSum(vx);
+    sum[1] += scale*laneSum(vy);
+    sum[2] += scale*laneSum(vz);
+}
+
+/** out (3 per blob) = M f for the rows [begin, end) in scaled units: each block of rows against every tile in turn. */
+template <class Real> LANES_INLINE void multiplyRows(const Blobs<Real>& b, int begin, int end, double* out) {
+    typedef decltype(typename Lanes<Real>::Vector{} < typename Lanes<Real>::Vector{}) Mask;
+    Mask masks[TiledBlobProduct::Tile/Lanes<Real>::Count];
     for (int first = begin; first < end; first += RowBlock) {
         const int last = std::min(end, first+RowBlock);
         double sums[3*RowBlock] = {0};
@@ -129,46 +134,132 @@ RIGIDLANGEVIN_TILED_CLONES void multiplyRows(const Blobs& b, int begin, int end,
                 double* sum = sums+3*(i-first);
                 if (addPairsApart(b, i, tile, tileEnd, masks, sum))
                     addPairsLeftOut(b, i, tile, tileEnd, masks, sum);
+                if (b.wall)
+                    addImagePairs(b, i, tile, tileEnd, sum);
             }
         }
         for (int i = first; i < last; i++) {
-            const double self = RotnePragerYamakawa::selfMobility(b.a[i]);
-            out[3*i] = self*b.fx[i]+sums[3*(i-first)];
-            out[3*i+1] = self*b.fy[i]+sums[3*(i-first)+1];
-            out[3*i+2] = self*b.fz[i]+sums[3*(i-first)+2];
+            const double self = RotnePragerYamakawa::selfMobility(b.exactA[i]);
+            out[3*i] = self*b.exactFx[i]+sums[3*(i-first)];
+            out[3*i+1] = self*b.exactFy[i]+sums[3*(i-first)+1];
+            out[3*i+2] = self*b.exactFz[i]+sums[3*(i-first)+2];
         }
     }
+}
+
+RIGIDLANGEVIN_TILED_CLONES void multiplyRowsInDouble(const Blobs<double>& b, int begin, int end, double* out) {
+    multiplyRows(b, begin, end, out);
+}
+
+RIGIDLANGEVIN_TILED_CLONES void multiplyRowsInSingle(const Blobs<float>& b, int begin, int end, double* out) {
+    multiplyRows(b, begin, end, out);
+}
+
+/** The power of two nearest above the largest magnitude in values (1 if none is positive): scaling by it is exact. */
+double powerOfTwoAbove(const double* values, int count) {
+    double largest = 0;
+    for (int i = 0; i < count; i++)
+        largest = std::max(largest, std::abs(values[i]));
+    if (!(largest > 0) || !std::isfinite(largest))
+        return 1;
+    int exponent;
+    std::frexp(largest, &exponent);
+    return std::ldexp(1.0, exponent);
 }
 
 } // namespace
 
 void TiledBlobProduct::setBlobs(const vector<Vec3>& positions, const vector<double>& radii) {
+    wall = false;
+    store(positions, radii);
+    damping.assign(numBlobs, 1.0);
+}
+
+void TiledBlobProduct::setBlobsAboveWall(const vector<Vec3>& positions, const vector<double>& radii, double wallZ) {
+    // M~ = B M(h~) B (RotnePragerBlake.h): z holds the evaluated heights h~, damping B's diagonal.
+    vector<Vec3> raised(positions);
+    damping.resize(positions.size());
+    for (int i = 0; i < (int) positions.size(); i++) {
+        const double h = positions[i][2]-wallZ;
+        raised[i][2] = RotnePragerBlake::evaluatedHeight(h, radii[i]);
+        damping[i] = RotnePragerBlake::damping(h, radii[i]);
+    }
+    wall = true;
+    store(raised, radii);
+}
+
+void TiledBlobProduct::setSinglePrecision(bool single) {
+    if (single != singleRequested) {
+        singleRequested = single;
+        fillSingleArrays();
+    }
+}
+
+void TiledBlobProduct::store(const vector<Vec3>& positions, const vector<double>& radii) {
     numBlobs = positions.size();
-    const int padded = (numBlobs+Lanes-1)/Lanes*Lanes;
-    // Padding: far from everything (its lanes then add zero force times finite numbers), radius one.
+    const int padded = (numBlobs+Padding-1)/Padding*Padding;
+    // Lengths in units of a power of two near the largest radius (exactly), so that single
+    // precision's range holds every pair term; M scales as 1/length.
+    lengthScale = powerOfTwoAbove(radii.data(), numBlobs);
+    // Padding: far from everything and from the wall (its lanes then add zero force times finite
+    // numbers), radius one.
     for (vector<double>* v : {&x, &y, &z, &fx, &fy, &fz})
         v->assign(padded, 0.0);
     radius.assign(padded, 1.0);
     radius2.assign(padded, 1.0);
     for (int i = 0; i < padded; i++) {
-        const Vec3 p = (i < numBlobs ? positions[i] : Vec3(1e10, 1e10, 1e10));
+        const Vec3 p = (i < numBlobs ? positions[i]/lengthScale : Vec3(1e9, 1e9, 1e9));
         x[i] = p[0];
         y[i] = p[1];
         z[i] = p[2];
         if (i < numBlobs) {
-            radius[i] = radii[i];
-            radius2[i] = radii[i]*radii[i];
+            radius[i] = radii[i]/lengthScale;
+            radius2[i] = radius[i]*radius[i];
         }
     }
+    fillSingleArrays();
+}
+
+void TiledBlobProduct::fillSingleArrays() {
+    // Radii spanning more than MaxSingleRadiusRatio would take 1/r^3 of the closest pairs out of
+    // single precision's range.
+    const auto span = std::minmax_element(radius.begin(), radius.begin()+numBlobs);
+    single = singleRequested && (numBlobs == 0 || *span.first*MaxSingleRadiusRatio >= *span.second);
+    for (auto copy : {std::make_pair(&radius, &singleRadius), std::make_pair(&radius2, &singleRadius2), std::make_pair(&z, &singleHeight)}) {
+        copy.second->assign(single ? copy.first->size() : 0, 0.0f);
+        for (int i = 0; i < (int) copy.second->size(); i++)
+            (*copy.second)[i] = (float) (*copy.first)[i];
+    }
+    for (vector<float>* v : {&singleFx, &singleFy, &singleFz})
+        v->assign(single ? x.size() : 0, 0.0f);
 }
 
 void TiledBlobProduct::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out, const KrylovSolvers::ParallelFor& parallel) {
+    // Forces in units of a power of two near the largest (exactly), for single precision's range.
+    const double forceScale = powerOfTwoAbove(f.data(), 3*numBlobs), toForces = 1/forceScale;
     for (int i = 0; i < numBlobs; i++) {
-        fx[i] = f[3*i];
-        fy[i] = f[3*i+1];
-        fz[i] = f[3*i+2];
+        fx[i] = toForces*damping[i]*f[3*i];
+        fy[i] = toForces*damping[i]*f[3*i+1];
+        fz[i] = toForces*damping[i]*f[3*i+2];
+    }
+    for (int i = 0; i < (single ? numBlobs : 0); i++) {
+        singleFx[i] = (float) fx[i];
+        singleFy[i] = (float) fy[i];
+        singleFz[i] = (float) fz[i];
     }
     out.resize(3*numBlobs);
-    const Blobs blobs = {x.data(), y.data(), z.data(), radius.data(), radius2.data(), fx.data(), fy.data(), fz.data(), numBlobs, (int) x.size()};
-    parallel(numBlobs, [&] (int begin, int end) { multiplyRows(blobs, begin, end, out.data()); });
+    const int padded = x.size();
+    const Blobs<double> inDouble = {x.data(), y.data(), z.data(), radius.data(), radius2.data(), z.data(), fx.data(), fy.data(), fz.data(),
+                                    radius.data(), fx.data(), fy.data(), fz.data(), numBlobs, padded, wall};
+    const Blobs<float> inSingle = {x.data(), y.data(), z.data(), singleRadius.data(), singleRadius2.data(), singleHeight.data(), singleFx.data(),
+                                   singleFy.data(), singleFz.data(), radius.data(), fx.data(), fy.data(), fz.data(), numBlobs, padded, wall};
+    const double toVelocities = forceScale/lengthScale;
+    parallel(numBlobs, [&] (int begin, int end) {
+        if (single)
+            multiplyRowsInSingle(inSingle, begin, end, out.data());
+        else
+            multiplyRowsInDouble(inDouble, begin, end, out.data());
+        for (int i = begin; i < end; i++)
+            out.segment<3>(3*i) *= toVelocities*damping[i];
+    });
 }

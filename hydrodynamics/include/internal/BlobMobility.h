@@ -34,31 +34,36 @@ public:
      * default throws: an implementation without a wall says so rather than ignore it.
      */
     virtual void setWall(double wallZ);
+    /**
+     * The relative error the products may carry from the next setBlobs() on: the tolerance of the
+     * Krylov solves they serve. An implementation may compute them less precisely where that keeps
+     * their error well below it; by default they are as exact as the implementation can make them.
+     */
+    virtual void setTolerance(double tolerance) {
+        (void) tolerance;
+    }
 };
 
 /**
- * M on the host, in an unbounded solvent, a periodic box or above a wall (setWall()). Up to a
- * limit setBlobs() forms M once (both triangles, 8 (3B)^2 bytes: 130 MB at 1350 blobs) and each
- * product is a matrix-vector product, its rows shared out by parallel; beyond, every product
- * evaluates the pairs again (matrix-free), its rows shared out by parallel too. The limit is
- * MaxStoredBlobs (or the constructor's maxStoredBlobs) above a wall, and the smaller of that and
- * MaxStoredUnboundedBlobs in an unbounded solvent, whose matrix-free product is TiledBlobProduct's
- * (vectorised, 2.2-2.5 ns per pair per core on the development machine): measured there on two
- * threads (benchmarks/hydrodynamics/README.md, benchmark_blob_product), the stored product takes
- * 0.41 +- 0.01 of the tiled product's time at 300 blobs, 1.05 +- 0.02 at 600 and 1.22 +- 0.07 at
- * 1000 (M no longer fits in the caches), and forming M costs about 25 tiled products at 600 blobs,
- * where a step takes some 50 products. In a periodic box M is always formed (the dense
- * Ewald sum of every pair's images and the wave-space sum, once per setBlobs(), shared out by
- * parallel), whatever the number of blobs; PositivelySplitEwald is the matrix-free periodic
- * product. Above a wall a pair's block costs about twice an unbounded one's (its image part),
- * formed or matrix-free alike.
+ * M on the host, in an unbounded solvent, a periodic box or above a wall (setWall()). Up to
+ * MaxStoredBlobs (or the constructor's maxStoredBlobs) setBlobs() forms M once (both triangles,
+ * 8 (3B)^2 bytes: 18 MB at 500 blobs) and each product is a matrix-vector product, its rows shared
+ * out by parallel; beyond, every product evaluates the pairs again (matrix-free, TiledBlobProduct:
+ * vectorised, in single precision at loose tolerances, setTolerance()), its rows shared out by
+ * parallel too. The limit is where the two cost the same, measured on the development machine's
+ * two threads (benchmarks/hydrodynamics/README.md, benchmark_blob_product): in an unbounded solvent
+ * the stored product takes 0.41 +- 0.01 of the tiled product's time at 300 blobs, 1.05 +- 0.02 at
+ * 600 and 1.22 +- 0.07 at 1000 (M no longer fits in the caches), and forming M costs about 25
+ * tiled products at 600 blobs, where a step takes some 50 products; above a wall (each pair's image
+ * part about doubles its cost, formed or matrix-free alike) the same holds for single-precision
+ * products. In a periodic box M is always formed (the dense Ewald sum of every pair's images and
+ * the wave-space sum, once per setBlobs(), shared out by parallel), whatever the number of blobs;
+ * PositivelySplitEwald is the matrix-free periodic product.
  */
 class OPENMM_EXPORT_HYDRODYNAMICS HostBlobMobility : public BlobMobility {
 public:
-    /** Up to how many blobs M is formed above a wall (by default). */
-    static const int MaxStoredBlobs = 1350;
-    /** Up to how many blobs M is formed in an unbounded solvent (and at most maxStoredBlobs). */
-    static const int MaxStoredUnboundedBlobs = 500;
+    /** Up to how many blobs M is formed (by default) in an unbounded solvent or above a wall. */
+    static const int MaxStoredBlobs = 500;
     /**
      * @param parallel        how rows are shared out among threads
      * @param maxStoredBlobs  up to how many blobs M is formed rather than applied matrix-free
@@ -69,6 +74,15 @@ public:
     void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors = NULL);
     void multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out);
     void setWall(double wallZ);
+    /**
+     * At a tolerance of SinglePrecisionTolerance or looser the matrix-free product's pair terms are
+     * in single precision (TiledBlobProduct::setSinglePrecision(): the product within 3e-7 of the
+     * exact one, at least 30 times below the tolerance, about twice as fast); tighter, in double.
+     * The stored matrix is always in double.
+     */
+    void setTolerance(double tolerance) override;
+    /** The loosest tolerance at which the matrix-free products stay in double precision is just below this. */
+    static constexpr double SinglePrecisionTolerance = 1e-5;
 private:
     KrylovSolvers::ParallelFor parallel;
     int maxStoredBlobs;

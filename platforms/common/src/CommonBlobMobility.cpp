@@ -80,6 +80,10 @@ void CommonBlobMobility::setWall(double wallZ) {
     wall = true;
 }
 
+void CommonBlobMobility::setTolerance(double tolerance) {
+    onHost.setTolerance(tolerance);
+}
+
 void CommonBlobMobility::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out) {
     if (f.size() != 3*numBlobs)
         throw OpenMMException("CommonBlobMobility: a product with "+std::to_string(f.size())+" force components for "+std::to_string(numBlobs)+" blobs");

@@ -29,6 +29,8 @@ public:
     void multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out);
     /** Above a wall every product is the host's. */
     void setWall(double wallZ);
+    /** The host's products take it (HostBlobMobility::setTolerance()); the device kernel stays in double. */
+    void setTolerance(double tolerance) override;
     /** Blobs per work group (and per tile of local memory). */
     static const int TileSize = 64;
     /** Tasks a product is split into at least, on any device (a GPU asks for more): see setBlobs. */

@@ -135,15 +135,17 @@ CoupledSolve RigidLangevinStepKernelBase::chooseCoupledSolve(const RigidBodyInte
     return solve;
 }
 
-BlobMobility& RigidLangevinStepKernelBase::stepMobility(const RigidBodyIntegrator& integrator, const CoupledSolve& solve) {
-    if (!solve.spectral)
-        return blobMobility();
-    if (!spectralMobility)
-        spectralMobility.reset(new SpectralBlobMobility(integratorName(integrator),
-                [this] (int count, const std::function<void (int, int)>& task) { parallelFor(count, task); }));
-    spectralMobility->setTolerance(solve.tolerance);
-    spectralMobility->setMemoryBudget(integrator.getHydrodynamicMemoryBudget());
-    return *spectralMobility;
+BlobMobility& RigidLangevinStepKernelBase::stepMobility(const RigidBodyIntegrator& integrator, const CoupledSolve& solve, BlobMobility& platformMobility) {
+    BlobMobility* mobility = &platformMobility;
+    if (solve.spectral) {
+        if (!spectralMobility)
+            spectralMobility.reset(new SpectralBlobMobility(integratorName(integrator),
+                    [this] (int count, const std::function<void (int, int)>& task) { parallelFor(count, task); }));
+        spectralMobility->setMemoryBudget(integrator.getHydrodynamicMemoryBudget());
+        mobility = spectralMobility.get();
+    }
+    mobility->setTolerance(solve.tolerance);
+    return *mobility;
 }
 
 void RigidLangevinStepKernelBase::takeCoupledStep(ContextImpl& context, const RigidBodyIntegrator& integrator, vector<BodyState>& states,
@@ -155,7 +157,7 @@ void RigidLangevinStepKernelBase::takeCoupledStep(ContextImpl& context, const Ri
         context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     CoupledStepParameters step = {integrator.getStepSize(), integrator.getViscosity(), BOLTZ*integrator.getTemperature(), periodic ? box : NULL};
     const CoupledSolve solve = chooseCoupledSolve(integrator, interactions->getNumBlobs(), periodic);
-    coupledStep->take(states, forces, step, solve, normal, solve.spectral ? stepMobility(integrator, solve) : mobility, parallel);
+    coupledStep->take(states, forces, step, solve, normal, stepMobility(integrator, solve, mobility), parallel);
     lastKrylovIterations = coupledStep->getLastIterations();
 }
 
@@ -293,7 +295,7 @@ void RigidLangevinStepKernelBase::takeBrownianStep(ContextImpl& context, const R
     CoupledStepParameters step = {integrator.getStepSize(), integrator.getViscosity(), BOLTZ*integrator.getTemperature(), periodic ? box : NULL};
     CoupledSolve solve = (interactions ? chooseCoupledSolve(integrator, interactions->getNumBlobs(), periodic) :
                           CoupledSolve{false, integrator.getHydrodynamicTolerance(), KrylovMaxIterations, false});
-    brownianStep->take(states, forces, step, solve, coefficients, hostNormals(), stepMobility(integrator, solve));
+    brownianStep->take(states, forces, step, solve, coefficients, hostNormals(), stepMobility(integrator, solve, blobMobility()));
     lastKrylovIterations = brownianStep->getLastIterations();
     uploadBodyStates(context, states);
     finishHostStep(context, integrator.getStepSize());

@@ -107,8 +107,9 @@ protected:
      * (KrylovSolver in a periodic box) would exceed the integrator's setHydrodynamicMemoryBudget().
      */
     CoupledSolve chooseCoupledSolve(const RigidBodyIntegrator& integrator, int numBlobs, bool periodic) const;
-    /** The blobs' mobility products for a matrix-free step solved as solve says: the platform's (blobMobility()) or the spectral solver's. */
-    BlobMobility& stepMobility(const RigidBodyIntegrator& integrator, const CoupledSolve& solve);
+    /** The blobs' mobility products for a matrix-free step solved as solve says: the platform's
+     *  (platformMobility) or the spectral solver's, told the solves' tolerance (BlobMobility::setTolerance()). */
+    BlobMobility& stepMobility(const RigidBodyIntegrator& integrator, const CoupledSolve& solve, BlobMobility& platformMobility);
     /** Each matrix-free solve's iteration limit: beyond it the step throws, naming the solve. */
     static const int KrylovMaxIterations = 1000;
     /**

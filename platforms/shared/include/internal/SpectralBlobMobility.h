@@ -31,7 +31,7 @@ public:
      */
     SpectralBlobMobility(const std::string& integratorName, const KrylovSolvers::ParallelFor& parallel);
     /** The PSE's epsilon from now on: the integrator's hydrodynamic tolerance (throws if the PSE cannot reach it). */
-    void setTolerance(double tolerance);
+    void setTolerance(double tolerance) override;
     /** The most bytes the PSE may hold from the next setBlobs() on: the integrator's hydrodynamic memory budget. */
     void setMemoryBudget(double bytes);
     void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors = NULL) override;
