@@ -1,7 +1,7 @@
 #include "internal/TiledBlobProduct.h"
 #include "internal/RotnePragerBlake.h"
 #include "internal/RotnePragerYamakawa.h"
-#include "TiledBlobLanes.h"
+#include "TiledBlobPairs.h"
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -25,134 +25,79 @@ namespace {
 /** Rows summed together over one tile: their partial sums stay in L1 while the tile is read. */
 const int RowBlock = 32;
 
-/** Pairs whose scaled r^2 is outside these bounds skip the lanes (single-precision estimates of
- *  1/sqrt, and in single precision 1/r^3, must not overflow or underflow). */
-template <class Real> struct SquaredDistanceBounds;
-template <> struct SquaredDistanceBounds<double> {
-    static constexpr double Min = 1e-30, Max = 1e30;
-};
-template <> struct SquaredDistanceBounds<float> {
-    static constexpr double Min = 1e-10, Max = 1e20;
-};
-
 /**
- * Row i's sum over the sources [begin, end) (whole lanes) of the pairs apart (r > a_i + a_j):
- * sum += that part of (M f)_i. masks[c] marks the lanes of chunk c left out (overlapping, the blob
- * itself, padding too far or too close for the lanes); returns whether any lane was.
+ * sums (3 per row, from begin's) += the pairs of the rows [begin, end) with the sources
+ * [sourceBegin, sourceEnd) (whole lanes), each row on its own: each block of rows against every
+ * tile of the sources in turn. A row's own blob among the sources adds its image only.
  */
-template <class Real, class Mask> LANES_INLINE bool addPairsApart(const Blobs<Real>& b, int i, int begin, int end, Mask* masks, double sum[3]) {
-    typedef typename Lanes<Real>::Vector V;
-    const V ai = splat<Real>(b.a[i]), ai2 = splat<Real>(b.a2[i]), zero = splat<Real>(0);
-    const Real isotropic0 = 1/(8*M_PI), isotropic2 = 1/(24*M_PI);
-    V vx = zero, vy = zero, vz = zero;
-    Mask any = Mask{} != Mask{};
-    for (int j = begin, c = 0; j < end; j += Lanes<Real>::Count, c++) {
-        const V dx = difference<V>(b.x+j, b.x[i]), dy = difference<V>(b.y+j, b.y[i]), dz = difference<V>(b.z+j, b.z[i]);
-        const V r2 = dx*dx+dy*dy+dz*dz;
-        const V reach = ai+load<V>(b.a+j);
-        const Mask left = (r2 <= reach*reach) | (r2 < (Real) SquaredDistanceBounds<Real>::Min) | (r2 > (Real) SquaredDistanceBounds<Real>::Max);
-        const V inverse = inverseSqrt<Real>(r2), inverse2 = inverse*inverse;
-        const V sigma2 = (ai2+load<V>(b.a2+j))*inverse2;
-        // mu_ij = [(1 + sigma2/3) I + (1 - sigma2) d d^T/r^2]/(8 pi r), sigma2 = (a_i^2 + a_j^2)/r^2.
-        const V isotropic = inverse*(isotropic0+isotropic2*sigma2);
-        const V dyadic = inverse*inverse2*(isotropic0-isotropic0*sigma2);
-        const V fx = load<V>(b.fx+j), fy = load<V>(b.fy+j), fz = load<V>(b.fz+j);
-        const V along = left ? zero : dyadic*(dx*fx+dy*fy+dz*fz);
-        const V across = left ? zero : isotropic;
-        vx += across*fx+along*dx;
-        vy += across*fy+along*dy;
-        vz += across*fz+along*dz;
-        masks[c] = left;
-        any |= left;
-    }
-    sum[0] += laneSum(vx);
-    sum[1] += laneSum(vy);
-    sum[2] += laneSum(vz);
-    for (int lane = 0; lane < Lanes<Real>::Count; lane++)
-        if (any[lane])
-            return true;
-    return false;
-}
-
-/** Add the pairs addPairsApart() left out of row i's sum (masks), each block exactly in double. */
-template <class Real, class Mask> inline void addPairsLeftOut(const Blobs<Real>& b, int i, int begin, int end, const Mask* masks, double sum[3]) {
-    for (int j = begin, c = 0; j < end; j += Lanes<Real>::Count, c++)
-        for (int lane = 0; lane < Lanes<Real>::Count; lane++) {
-            const int k = j+lane;
-            if (masks[c][lane] == 0 || k == i || k >= b.count)
-                continue;
-            double block[9];
-            RotnePragerYamakawa::mobilityBlock(b.x[k]-b.x[i], b.y[k]-b.y[i], b.z[k]-b.z[i], b.exactA[i], b.exactA[k], block);
-            for (int row = 0; row < 3; row++)
-                sum[row] += block[3*row]*b.exactFx[k]+block[3*row+1]*b.exactFy[k]+block[3*row+2]*b.exactFz[k];
-        }
-}
-
-/**
- * Row i's sum over the sources [begin, end) (whole lanes) of the wall's image part of the pairs
- * (RotnePragerBlake::imageCoefficients(), the same formulas in lanes): every source, blob i's own
- * image included (the wall's part of its self-mobility), since the image part is smooth wherever
- * both blobs' evaluated heights are at least their radii. R^2 >= (h_i + h_j)^2 > 0: no lane is left out.
- */
-template <class Real> LANES_INLINE void addImagePairs(const Blobs<Real>& b, int i, int begin, int end, double sum[3]) {
-    typedef typename Lanes<Real>::Vector V;
-    const V hi = splat<Real>(b.h[i]), ai2 = splat<Real>(b.a2[i]), zero = splat<Real>(0);
-    V vx = zero, vy = zero, vz = zero;
-    for (int j = begin; j < end; j += Lanes<Real>::Count) {
-        const V rx = -difference<V>(b.x+j, b.x[i]), ry = -difference<V>(b.y+j, b.y[i]), hj = load<V>(b.h+j), aj2 = load<V>(b.a2+j);
-        const V rz = hi+hj, rz2 = rz*rz;
-        const V u = inverseSqrt<Real>(rx*rx+ry*ry+rz2), u2 = u*u, u3 = u*u2;
-        // The coefficients as polynomials in u^2 (Horner), grouped as imageCoefficients() writes them.
-        const V p = ai2*aj2, q = ai2*hj+aj2*hi, hihj = hi*hj, w = p*rz2, hj2 = 2*hj;
-        const V c0 = -u*(1+u2*((2*hihj+(ai2+aj2)*(Real) (1.0/3))-u2*((2*rz*q+p*(Real) (2.0/3))-u2*((Real) (10.0/3)*w))));
-        const V c1 = -u3*(1-u2*((6*hihj+ai2+aj2)-u2*((10*rz*q+p*(Real) (10.0/3))-u2*((Real) (70.0/3)*w))));
-        const V c2 = u3*(hj2-u2*((12*hihj+2*aj2)*rz+2*q-u2*((20*rz*q+(Real) (40.0/3)*p)*rz-u2*((Real) (140.0/3)*w*rz))));
-        const V c3 = u3*(hj2+u2*(hj2*(ai2-aj2)-u2*((Real) (20.0/3)*p*rz)));
-        const V c4 = u3*(-hj2*hj2+u2*((4*aj2*(hj*hj-hi*hi)-8*ai2*hj*rz-p*(Real) (8.0/3))+u2*(20*w)));
-        const V fx = load<V>(b.fx+j), fy = load<V>(b.fy+j), fz = load<V>(b.fz+j);
-        const V along = rx*fx+ry*fy+rz*fz, dyadic = c1*along+c2*fz;
-        vx += c0*fx+dyadic*rx;
-        vy += c0*fy+dyadic*ry;
-        vz += c0*fz+dyadic*rz+c3*along+c4*fz;
-    }
-    const double scale = 1/(8*M_PI);
-    sum[0] += scale*laneSum(vx);
-    sum[1] += scale*laneSum(vy);
-    sum[2] += scale*laneSum(vz);
-}
-
-/** out (3 per blob) = M f for the rows [begin, end) in scaled units: each block of rows against every tile in turn. */
-template <class Real> LANES_INLINE void multiplyRows(const Blobs<Real>& b, int begin, int end, double* out) {
+template <class Real> LANES_INLINE void addRows(const Blobs<Real>& b, int begin, int end, int sourceBegin, int sourceEnd, double* sums) {
     typedef decltype(typename Lanes<Real>::Vector{} < typename Lanes<Real>::Vector{}) Mask;
     Mask masks[TiledBlobProduct::Tile/Lanes<Real>::Count];
     for (int first = begin; first < end; first += RowBlock) {
         const int last = std::min(end, first+RowBlock);
-        double sums[3*RowBlock] = {0};
-        for (int tile = 0; tile < b.padded; tile += TiledBlobProduct::Tile) {
-            const int tileEnd = std::min(b.padded, tile+TiledBlobProduct::Tile);
+        for (int tile = sourceBegin; tile < sourceEnd; tile += TiledBlobProduct::Tile) {
+            const int tileEnd = std::min(sourceEnd, tile+TiledBlobProduct::Tile);
             for (int i = first; i < last; i++) {
-                double* sum = sums+3*(i-first);
+                double* sum = sums+3*(i-begin);
                 if (addPairsApart(b, i, tile, tileEnd, masks, sum))
                     addPairsLeftOut(b, i, tile, tileEnd, masks, sum);
                 if (b.wall)
                     addImagePairs(b, i, tile, tileEnd, sum);
             }
         }
-        for (int i = first; i < last; i++) {
-            const double self = RotnePragerYamakawa::selfMobility(b.exactA[i]);
-            out[3*i] = self*b.exactFx[i]+sums[3*(i-first)];
-            out[3*i+1] = self*b.exactFy[i]+sums[3*(i-first)+1];
-            out[3*i+2] = self*b.exactFz[i]+sums[3*(i-first)+2];
-        }
     }
 }
 
-RIGIDLANGEVIN_TILED_CLONES void multiplyRowsInDouble(const Blobs<double>& b, int begin, int end, double* out) {
-    multiplyRows(b, begin, end, out);
+/**
+ * The pairs of two disjoint tiles of at most TiledBlobProduct::Tile blobs, [rowBegin, rowEnd) and
+ * [columnBegin, columnEnd), each pair once: rowSums (3 per blob of the first) += their part of the
+ * first's rows, columnSums of the second's. Each block of rows sums its columns' part in the lanes'
+ * precision, then adds it to columnSums.
+ */
+template <class Real, bool Wall> LANES_INLINE void addTilePair(const Blobs<Real>& b, int rowBegin, int rowEnd, int columnBegin, int columnEnd,
+                                                               double* rowSums, double* columnSums) {
+    typedef decltype(typename Lanes<Real>::Vector{} < typename Lanes<Real>::Vector{}) Mask;
+    Mask masks[TiledBlobProduct::Tile/Lanes<Real>::Count];
+    Real columns[3][TiledBlobProduct::Tile];
+    Real* column[3] = {columns[0], columns[1], columns[2]};
+    const int width = columnEnd-columnBegin;
+    for (int first = rowBegin; first < std::min(rowEnd, b.count); first += RowBlock) {
+        const int last = std::min(std::min(rowEnd, b.count), first+RowBlock);
+        for (int k = 0; k < 3; k++)
+            std::fill(column[k], column[k]+width, (Real) 0);
+        for (int i = first; i < last; i++)
+            if (addPairsBothWays<Real, Wall>(b, i, columnBegin, columnEnd, masks, rowSums+3*(i-rowBegin), column))
+                addPairsLeftOutBothWays(b, i, columnBegin, columnEnd, masks, rowSums+3*(i-rowBegin), columnSums);
+        for (int j = 0; j < width; j++)
+            for (int k = 0; k < 3; k++)
+                columnSums[3*j+k] += column[k][j];
+    }
 }
 
-RIGIDLANGEVIN_TILED_CLONES void multiplyRowsInSingle(const Blobs<float>& b, int begin, int end, double* out) {
-    multiplyRows(b, begin, end, out);
+template <class Real> LANES_INLINE void addTilePair(const Blobs<Real>& b, int rowBegin, int rowEnd, int columnBegin, int columnEnd, double* rowSums,
+                                                    double* columnSums) {
+    if (b.wall)
+        addTilePair<Real, true>(b, rowBegin, rowEnd, columnBegin, columnEnd, rowSums, columnSums);
+    else
+        addTilePair<Real, false>(b, rowBegin, rowEnd, columnBegin, columnEnd, rowSums, columnSums);
+}
+
+RIGIDLANGEVIN_TILED_CLONES void addRowsInDouble(const Blobs<double>& b, int begin, int end, int sourceBegin, int sourceEnd, double* sums) {
+    addRows(b, begin, end, sourceBegin, sourceEnd, sums);
+}
+
+RIGIDLANGEVIN_TILED_CLONES void addRowsInSingle(const Blobs<float>& b, int begin, int end, int sourceBegin, int sourceEnd, double* sums) {
+    addRows(b, begin, end, sourceBegin, sourceEnd, sums);
+}
+
+RIGIDLANGEVIN_TILED_CLONES void addTilePairInDouble(const Blobs<double>& b, int rowBegin, int rowEnd, int columnBegin, int columnEnd, double* rowSums,
+                                                    double* columnSums) {
+    addTilePair(b, rowBegin, rowEnd, columnBegin, columnEnd, rowSums, columnSums);
+}
+
+RIGIDLANGEVIN_TILED_CLONES void addTilePairInSingle(const Blobs<float>& b, int rowBegin, int rowEnd, int columnBegin, int columnEnd, double* rowSums,
+                                                    double* columnSums) {
+    addTilePair(b, rowBegin, rowEnd, columnBegin, columnEnd, rowSums, columnSums);
 }
 
 /** The power of two nearest above the largest magnitude in values (1 if none is positive): scaling by it is exact. */
@@ -248,18 +193,83 @@ void TiledBlobProduct::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out, 
         singleFz[i] = (float) fz[i];
     }
     out.resize(3*numBlobs);
-    const int padded = x.size();
-    const Blobs<double> inDouble = {x.data(), y.data(), z.data(), radius.data(), radius2.data(), z.data(), fx.data(), fy.data(), fz.data(),
-                                    radius.data(), fx.data(), fy.data(), fz.data(), numBlobs, padded, wall};
-    const Blobs<float> inSingle = {x.data(), y.data(), z.data(), singleRadius.data(), singleRadius2.data(), singleHeight.data(), singleFx.data(),
-                                   singleFy.data(), singleFz.data(), radius.data(), fx.data(), fy.data(), fz.data(), numBlobs, padded, wall};
+    const int tile = pairTileSize(x.size());
+    if (tile > 0)
+        multiplyByTilePairs(tile, out, parallel);
+    else
+        parallel(numBlobs, [&] (int begin, int end) {
+            std::fill(out.data()+3*begin, out.data()+3*end, 0.0);
+            addRowSums(begin, end, 0, x.size(), out.data()+3*begin);
+        });
     const double toVelocities = forceScale/lengthScale;
     parallel(numBlobs, [&] (int begin, int end) {
-        if (single)
-            multiplyRowsInSingle(inSingle, begin, end, out.data());
-        else
-            multiplyRowsInDouble(inDouble, begin, end, out.data());
-        for (int i = begin; i < end; i++)
-            out.segment<3>(3*i) *= toVelocities*damping[i];
+        for (int i = begin; i < end; i++) {
+            const double self = RotnePragerYamakawa::selfMobility(radius[i]);
+            out[3*i] = toVelocities*damping[i]*(self*fx[i]+out[3*i]);
+            out[3*i+1] = toVelocities*damping[i]*(self*fy[i]+out[3*i+1]);
+            out[3*i+2] = toVelocities*damping[i]*(self*fz[i]+out[3*i+2]);
+        }
+    });
+}
+
+int TiledBlobProduct::pairTileSize(int padded) {
+    // About 16 tiles, so that two to eight threads share their pairs evenly.
+    const int size = std::min(Tile, std::max(64, (padded/16+Padding-1)/Padding*Padding));
+    return ((padded+size-1)/size <= MaxPairTiles ? size : 0);
+}
+
+TiledBlobLanes::Blobs<double> TiledBlobProduct::inDouble() const {
+    return {x.data(), y.data(), z.data(), radius.data(), radius2.data(), z.data(), fx.data(), fy.data(), fz.data(),
+            radius.data(), fx.data(), fy.data(), fz.data(), numBlobs, (int) x.size(), wall};
+}
+
+TiledBlobLanes::Blobs<float> TiledBlobProduct::inSingle() const {
+    return {x.data(), y.data(), z.data(), singleRadius.data(), singleRadius2.data(), singleHeight.data(), singleFx.data(), singleFy.data(),
+            singleFz.data(), radius.data(), fx.data(), fy.data(), fz.data(), numBlobs, (int) x.size(), wall};
+}
+
+void TiledBlobProduct::addRowSums(int begin, int end, int sourceBegin, int sourceEnd, double* sums) const {
+    if (single)
+        addRowsInSingle(inSingle(), begin, end, sourceBegin, sourceEnd, sums);
+    else
+        addRowsInDouble(inDouble(), begin, end, sourceBegin, sourceEnd, sums);
+}
+
+void TiledBlobProduct::multiplyByTilePairs(int tile, Eigen::VectorXd& out, const KrylovSolvers::ParallelFor& parallel) {
+    // Task (I, J), I <= J, evaluates the pairs of tiles I and J (once each where I < J) into a slot
+    // of its own: 3 sums per blob of I, then 3 per blob of J. Each blob's sum over the slots is then
+    // taken in one order, so the product does not depend on how the tasks are shared out.
+    const int padded = x.size(), numTiles = (padded+tile-1)/tile, slotSize = 6*tile;
+    std::vector<std::pair<int, int>> tasks;
+    for (int first = 0; first < numTiles; first++)
+        for (int second = first; second < numTiles; second++)
+            tasks.push_back({first, second});
+    tileSums.resize(tasks.size()*slotSize);
+    const Blobs<double> doubles = inDouble();
+    const Blobs<float> singles = inSingle();
+    parallel(tasks.size(), [&] (int begin, int end) {
+        for (int t = begin; t < end; t++) {
+            double* slot = tileSums.data()+(size_t) t*slotSize;
+            std::fill(slot, slot+slotSize, 0.0);
+            const int rows = tasks[t].first*tile, columns = tasks[t].second*tile;
+            if (rows == columns)
+                addRowSums(rows, std::min(numBlobs, rows+tile), rows, std::min(padded, rows+tile), slot);
+            else if (single)
+                addTilePairInSingle(singles, rows, rows+tile, columns, std::min(padded, columns+tile), slot, slot+3*tile);
+            else
+                addTilePairInDouble(doubles, rows, rows+tile, columns, std::min(padded, columns+tile), slot, slot+3*tile);
+        }
+    });
+    auto slotOf = [&] (int first, int second) { return (size_t) (first*numTiles-first*(first-1)/2+(second-first))*slotSize; };
+    parallel(numTiles, [&] (int begin, int end) {
+        for (int tileOfRow = begin; tileOfRow < end; tileOfRow++)
+            for (int i = tileOfRow*tile; i < std::min(numBlobs, (tileOfRow+1)*tile); i++)
+                for (int k = 0; k < 3; k++) {
+                    double sum = 0;
+                    for (int other = 0; other < numTiles; other++)
+                        sum += (tileOfRow <= other ? tileSums[slotOf(tileOfRow, other)+3*(i-tileOfRow*tile)+k]
+                                                   : tileSums[slotOf(other, tileOfRow)+3*tile+3*(i-tileOfRow*tile)+k]);
+                    out[3*i+k] = sum;
+                }
     });
 }

@@ -9,6 +9,10 @@
 
 namespace RigidLangevinPlugin {
 
+namespace TiledBlobLanes {
+template <class Real> struct Blobs;
+}
+
 /**
  * out = M f for the blobs' generalised Rotne-Prager-Yamakawa mobility M per unit viscosity in an
  * unbounded solvent (RotnePragerYamakawa.h), or their regularised Rotne-Prager-Blake mobility above
@@ -32,8 +36,12 @@ namespace RigidLangevinPlugin {
  * their evaluated heights, so none is left out. In double precision the result equals the dense
  * matrix's product to round-off; in single, to about 3e-7 (relative).
  *
- * The rows are shared out by the caller's ParallelFor; each row is summed in the same order
- * whichever thread takes it, so the product does not depend on the number of threads.
+ * Up to MaxPairTiles tiles (about 16 tiles of 64 to Tile blobs; 32768 blobs at most) each pair is
+ * evaluated once for both of its blobs (the wall's image block for the second blob is the first's
+ * transposed): tasks over pairs of tiles, each summing into sums of its own, shared out by the
+ * caller's ParallelFor, then every blob's sums added over the tasks in one order. Beyond, the
+ * rows are shared out and each pair is evaluated for each of its blobs. Either way the product
+ * does not depend on the number of threads.
  */
 class OPENMM_EXPORT_HYDRODYNAMICS TiledBlobProduct {
 public:
@@ -75,8 +83,20 @@ private:
     std::vector<float> singleRadius, singleRadius2, singleHeight, singleFx, singleFy, singleFz;
     /** Each blob's damping by the wall's regularisation (1 in an unbounded solvent). */
     std::vector<double> damping;
+    /** Each pair task's sums (multiplyByTilePairs()). */
+    std::vector<double> tileSums;
     void store(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii);
     void fillSingleArrays();
+    /** The blobs' size of a tile for multiplyByTilePairs() (0: too many blobs, row by row instead). */
+    static int pairTileSize(int padded);
+    /** At most this many tiles (the tasks' sums hold 3 x tiles x padded doubles). */
+    static const int MaxPairTiles = 64;
+    TiledBlobLanes::Blobs<double> inDouble() const;
+    TiledBlobLanes::Blobs<float> inSingle() const;
+    /** sums (3 per row from begin's) += the rows' pairs with the sources [sourceBegin, sourceEnd), each row on its own. */
+    void addRowSums(int begin, int end, int sourceBegin, int sourceEnd, double* sums) const;
+    /** out (3 per blob, without the self term) = M f by tasks over pairs of tiles, each pair of blobs evaluated once. */
+    void multiplyByTilePairs(int tile, Eigen::VectorXd& out, const KrylovSolvers::ParallelFor& parallel);
 };
 
 } // namespace RigidLangevinPlugin
