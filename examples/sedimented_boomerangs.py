@@ -128,34 +128,47 @@ def normal_quadrature(points=32):
     return offsets.reshape(-1, len(BLOBS_UM)), np.repeat(w, len(phi))/len(phi)
 
 
-def height_density(forces, heights, points=32):
-    """The unnormalised density of the cross point's height at each height (um): the Boltzmann
-    factor averaged over uniform orientations."""
-    offsets, weights = normal_quadrature(points)
-    density = np.empty(len(heights))
-    for k, z in enumerate(heights):
-        energy = forces.blob_energy(z+offsets).sum(axis=1)
-        density[k] = np.dot(weights, np.exp(-(energy-forces.weight*len(BLOBS_UM)*z)))*np.exp(-forces.weight*len(BLOBS_UM)*z)
-    return density
+def orientation_boltzmann(forces, heights, offsets):
+    """The Boltzmann factor exp(-U/kT) at each cross-point height (rows, um) and orientation (columns:
+    the blobs' height offsets, as normal_quadrature gives them)."""
+    weight = forces.weight*len(BLOBS_UM)
+    return np.array([np.exp(-(forces.blob_energy(z+offsets).sum(axis=1)-weight*z))*np.exp(-weight*z) for z in heights])
+
+
+def cumulative_trapezoid(values, x):
+    """The trapezoidal rule's integral of values (along the first axis) from x[0] to each x."""
+    steps = (values[1:]+values[:-1])/2*(np.diff(x)[:, None] if values.ndim > 1 else np.diff(x))
+    return np.concatenate([np.zeros((1,)+values.shape[1:]), np.cumsum(steps, axis=0)])
 
 
 class GibbsBoltzmann:
-    """The cross point's height density on a grid (um), normalised, with its mean and bin probabilities."""
+    """The cross point's height density on a grid (um), normalised, with its mean, bin probabilities
+    and quantiles; and the same of the lowest blob's height (the body's gap to the wall)."""
 
     def __init__(self, forces, points=32):
         top = 30/(forces.weight*len(BLOBS_UM))+3  # e^-30 of the weight's tail
         self.heights = np.linspace(0.0, top, 3001)
-        density = height_density(forces, self.heights, points)
-        self.density = density/np.trapezoid(density, self.heights)
+        offsets, weights = normal_quadrature(points)
+        lowest = offsets.min(axis=1)  # how far the lowest blob sits below the cross point (a blob): at most 0
+        density, lowest_cumulative = np.zeros(len(self.heights)), np.zeros(len(self.heights))
+        for part in np.array_split(np.arange(len(weights)), max(1, len(weights)//512)):  # bounded memory
+            joint = orientation_boltzmann(forces, self.heights, offsets[part])*weights[part]  # heights x orientations
+            density += joint.sum(axis=1)
+            # At each orientation the lowest blob is below z where the cross point is below z - lowest.
+            cumulative = cumulative_trapezoid(joint, self.heights)
+            lowest_cumulative += sum(np.interp(self.heights-low, self.heights, cumulative[:, k]) for k, low in enumerate(lowest[part]))
+        total = np.trapezoid(density, self.heights)
+        self.density = density/total
         self.mean = float(np.trapezoid(self.heights*self.density, self.heights))
+        self.cumulative = cumulative_trapezoid(self.density, self.heights)
+        self.lowest_cumulative = lowest_cumulative/total
 
-    def bin_probabilities(self, edges):
-        cumulative = np.concatenate([[0], np.cumsum((self.density[1:]+self.density[:-1])/2*np.diff(self.heights))])
-        return np.diff(np.interp(edges, self.heights, cumulative))
+    def bin_probabilities(self, edges, lowest_blob=False):
+        """The probability of each bin of the cross point's height (or the lowest blob's), edges in um."""
+        return np.diff(np.interp(edges, self.heights, self.lowest_cumulative if lowest_blob else self.cumulative))
 
-    def quantiles(self, fractions):
-        cumulative = np.concatenate([[0], np.cumsum((self.density[1:]+self.density[:-1])/2*np.diff(self.heights))])
-        return np.interp(fractions, cumulative, self.heights)
+    def quantiles(self, fractions, lowest_blob=False):
+        return np.interp(fractions, self.lowest_cumulative if lowest_blob else self.cumulative, self.heights)
 
 
 def sample_bodies(forces, count, rng, candidates=4096):
@@ -185,10 +198,13 @@ def body_tensor():
     return hydro.coupledResistance([(blobs, [BLOB_RADIUS_UM*NM_PER_UM]*len(blobs), blobs[CROSS_POINT])])
 
 
-def build(forces, starts, interactions, platform='CPU', tolerance=None, seed=1, spacing=SPACING_UM):
-    """A System of boomerangs (one particle per blob) starting at (rotation, height) each, on a
-    square grid in x and y, and its integrator and Context."""
-    system, integrator = mm.System(), rl.RigidBrownianIntegrator(TEMPERATURE, VISCOSITY, STEP_PS[interactions])
+def build(forces, starts, interactions, platform='CPU', tolerance=None, seed=1, spacing=SPACING_UM, integrator=None, blob_mass=1.0):
+    """A System of boomerangs (one particle of blob_mass amu per blob) starting at (rotation, height)
+    each, on a square grid in x and y, and its integrator (a RigidBrownianIntegrator at the step of
+    STEP_PS unless one is given) and Context."""
+    system = mm.System()
+    if integrator is None:
+        integrator = rl.RigidBrownianIntegrator(TEMPERATURE, VISCOSITY, STEP_PS[interactions])
     integrator.setRandomNumberSeed(seed)
     force = forces.openmm_force()
     blobs_nm, tensor = BLOBS_UM*NM_PER_UM, body_tensor()
@@ -197,7 +213,7 @@ def build(forces, starts, interactions, platform='CPU', tolerance=None, seed=1, 
     for b, (turn, height) in enumerate(starts):
         first = system.getNumParticles()
         for i in range(len(blobs_nm)):
-            system.addParticle(1.0)
+            system.addParticle(blob_mass)
             force.addParticle(first+i)
             integrator.setParticleRadius(first+i, BLOB_RADIUS_UM*NM_PER_UM)
         integrator.addRigidBody(list(range(first, first+len(blobs_nm))))
