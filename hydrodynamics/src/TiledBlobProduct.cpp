@@ -213,8 +213,9 @@ void TiledBlobProduct::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out, 
 }
 
 int TiledBlobProduct::pairTileSize(int padded) {
-    // About 16 tiles, so that two to eight threads share their pairs evenly.
-    const int size = std::min(Tile, std::max(64, (padded/16+Padding-1)/Padding*Padding));
+    // About 16 tiles, so that two to eight threads share their pairs evenly; at most MaxPairTile
+    // blobs, so that a task's two tiles and its columns' sums stay in L1.
+    const int size = std::min(MaxPairTile, std::max(64, (padded/16+Padding-1)/Padding*Padding));
     return ((padded+size-1)/size <= MaxPairTiles ? size : 0);
 }
 

@@ -178,7 +178,7 @@ TEST(TiledBlobProduct, HostBlobMobilityTakesSinglePrecisionFromTheTolerance) {
     for (double tolerance : {1e-3, HostBlobMobility::SinglePrecisionTolerance, 0.9*HostBlobMobility::SinglePrecisionTolerance})
         for (bool stored : {false, true}) {
             SCOPED_TRACE(std::to_string(tolerance)+(stored ? ", stored" : ", matrix-free"));
-            HostBlobMobility host(KrylovSolvers::sequentially, stored ? HostBlobMobility::MaxStoredBlobs : 0);
+            HostBlobMobility host(KrylovSolvers::sequentially, stored ? n : 0);
             host.setTolerance(tolerance);
             host.setBlobs(positions, radii);
             host.multiply(f, out);

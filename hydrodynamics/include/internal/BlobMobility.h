@@ -46,24 +46,22 @@ public:
 
 /**
  * M on the host, in an unbounded solvent, a periodic box or above a wall (setWall()). Up to
- * MaxStoredBlobs (or the constructor's maxStoredBlobs) setBlobs() forms M once (both triangles,
- * 8 (3B)^2 bytes: 18 MB at 500 blobs) and each product is a matrix-vector product, its rows shared
- * out by parallel; beyond, every product evaluates the pairs again (matrix-free, TiledBlobProduct:
- * vectorised, in single precision at loose tolerances, setTolerance()), its rows shared out by
- * parallel too. The limit is where the two cost the same, measured on the development machine's
- * two threads (benchmarks/hydrodynamics/README.md, benchmark_blob_product): in an unbounded solvent
- * the stored product takes 0.41 +- 0.01 of the tiled product's time at 300 blobs, 1.05 +- 0.02 at
- * 600 and 1.22 +- 0.07 at 1000 (M no longer fits in the caches), and forming M costs about 25
- * tiled products at 600 blobs, where a step takes some 50 products; above a wall (each pair's image
- * part about doubles its cost, formed or matrix-free alike) the same holds for single-precision
- * products. In a periodic box M is always formed (the dense Ewald sum of every pair's images and
- * the wave-space sum, once per setBlobs(), shared out by parallel), whatever the number of blobs;
- * PositivelySplitEwald is the matrix-free periodic product.
+ * MaxStoredBlobs (or the constructor's maxStoredBlobs) setBlobs() forms M once (both triangles)
+ * and each product is a matrix-vector product, its rows shared out by parallel; beyond, every
+ * product evaluates the pairs again (matrix-free, TiledBlobProduct: vectorised, each pair once,
+ * in single precision at loose tolerances, setTolerance()), shared out by parallel too. The limit
+ * is where storing stops paying, measured on the development machine's two threads
+ * (benchmarks/hydrodynamics/README.md, benchmark_blob_product): forming M costs 10 to 40 tiled
+ * products from 100 blobs on, while a step's configuration serves 10 to 60 products (the Brownian
+ * step sets three configurations a step) and the stored product saves at most 0.3 to 0.6 of a
+ * tiled one up to 300 blobs and nothing from 600. In a periodic box M is always formed (the dense
+ * Ewald sum of every pair's images and the wave-space sum, once per setBlobs(), shared out by
+ * parallel), whatever the number of blobs; PositivelySplitEwald is the matrix-free periodic product.
  */
 class OPENMM_EXPORT_HYDRODYNAMICS HostBlobMobility : public BlobMobility {
 public:
     /** Up to how many blobs M is formed (by default) in an unbounded solvent or above a wall. */
-    static const int MaxStoredBlobs = 500;
+    static const int MaxStoredBlobs = 100;
     /**
      * @param parallel        how rows are shared out among threads
      * @param maxStoredBlobs  up to how many blobs M is formed rather than applied matrix-free

@@ -36,7 +36,7 @@ template <class Real> struct Blobs;
  * their evaluated heights, so none is left out. In double precision the result equals the dense
  * matrix's product to round-off; in single, to about 3e-7 (relative).
  *
- * Up to MaxPairTiles tiles (about 16 tiles of 64 to Tile blobs; 32768 blobs at most) each pair is
+ * Up to MaxPairTiles tiles (about 16 tiles of 64 to MaxPairTile blobs; 32768 blobs at most) each pair is
  * evaluated once for both of its blobs (the wall's image block for the second blob is the first's
  * transposed): tasks over pairs of tiles, each summing into sums of its own, shared out by the
  * caller's ParallelFor, then every blob's sums added over the tasks in one order. Beyond, the
@@ -89,8 +89,10 @@ private:
     void fillSingleArrays();
     /** The blobs' size of a tile for multiplyByTilePairs() (0: too many blobs, row by row instead). */
     static int pairTileSize(int padded);
-    /** At most this many tiles (the tasks' sums hold 3 x tiles x padded doubles). */
-    static const int MaxPairTiles = 64;
+    /** At most this many tiles (the tasks' sums hold 3 x tiles x padded doubles: 100 MB at 32768 blobs). */
+    static const int MaxPairTiles = 128;
+    /** At most this many blobs in a tile of the pair tasks. */
+    static const int MaxPairTile = 256;
     TiledBlobLanes::Blobs<double> inDouble() const;
     TiledBlobLanes::Blobs<float> inSingle() const;
     /** sums (3 per row from begin's) += the rows' pairs with the sources [sourceBegin, sourceEnd), each row on its own. */
