@@ -18,7 +18,7 @@ IMPLEMENTED = ('Reference', 'CPU', 'OpenCL', 'CUDA')
 
 # The few tests that take minutes, longest first. The test command runs two pytest-xdist workers,
 # which take tests in collection order: starting these first lets the two end together.
-LONG_RUNNING = ('test_water_peers.py', 'test_pip_install.py', 'test_benchmarks.py', 'test_examples.py')
+LONG_RUNNING = ('test_water_peers.py', 'test_pip_install.py', 'test_benchmarks.py', 'test_examples.py', 'test_sedimented_boomerangs.py')
 
 
 def pytest_collection_modifyitems(items):

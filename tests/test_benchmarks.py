@@ -381,3 +381,13 @@ def test_colloid_study_appends_to_the_same_records_as_one_run(tmp_path):
     strip = lambda r: [{k: v for k, v in c.items() if k != 'seconds'} for c in r['0.08']]
     assert strip(records[0]) == strip(records[1]) and len(records[0]['0.08']) == 4
     assert (tmp_path/'two'/'colloids.md').exists() and (tmp_path/'two'/'colloids.png').exists()
+
+
+def test_boomerang_step_benchmark_times_both_steps(tmp_path):
+    out = tmp_path/'boomerang_step.md'
+    result = subprocess.run([sys.executable, str(ROOT/'benchmarks'/'hydrodynamics'/'boomerang_step.py'), '--bodies', '4', '--steps', '2',
+                             '--threads', '1', '--out', str(out)], capture_output=True, encoding='utf-8', timeout=600)
+    assert result.returncode == 0, result.stderr
+    rows = [line for line in out.read_text(encoding='utf-8').splitlines() if line.startswith('| h = ')]
+    assert [row.split('|')[1].strip() for row in rows] == ['h = m/gamma', 'h = 30 m/gamma']
+    assert all(float(row.split('|')[2].split('±')[0]) > 0 for row in rows)
