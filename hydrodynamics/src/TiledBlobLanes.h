@@ -23,12 +23,14 @@ template <class Real> struct Lanes;
 template <> struct Lanes<double> {
     static const int Count = 4;
     typedef double Vector __attribute__((vector_size(32)));
+    typedef decltype(Vector{} < Vector{}) Mask;
     /** Refinements of the single-precision 1/sqrt estimate (12 bits, then 36, then double's rounding). */
     static const int Refinements = 2;
 };
 template <> struct Lanes<float> {
     static const int Count = 8;
     typedef float Vector __attribute__((vector_size(32)));
+    typedef decltype(Vector{} < Vector{}) Mask;
     static const int Refinements = 1;
 };
 

@@ -84,8 +84,13 @@ template <class Real, class Mask> LANES_INLINE bool addPairsApart(const Blobs<Re
     return anyLane<Real>(any);
 }
 
-/** Add the pairs addPairsApart() left out of row i's sum (masks), each block exactly in double. */
-template <class Real, class Mask> inline void addPairsLeftOut(const Blobs<Real>& b, int i, int begin, int end, const Mask* masks, double sum[3]) {
+/**
+ * Add the free part of the pairs that addPairsApart() or addPairsBothWays() left out (masks), each
+ * block exactly in double: to row i's sum and, where columnSums is given (3 doubles per source from
+ * begin), to the sources' sums too (the block is symmetric). Blob i itself is skipped.
+ */
+template <class Real, class Mask>
+inline void addPairsLeftOut(const Blobs<Real>& b, int i, int begin, int end, const Mask* masks, double sum[3], double* columnSums = nullptr) {
     for (int j = begin, c = 0; j < end; j += Lanes<Real>::Count, c++)
         for (int lane = 0; lane < Lanes<Real>::Count; lane++) {
             const int k = j+lane;
@@ -93,8 +98,11 @@ template <class Real, class Mask> inline void addPairsLeftOut(const Blobs<Real>&
                 continue;
             double block[9];
             RotnePragerYamakawa::mobilityBlock(b.x[k]-b.x[i], b.y[k]-b.y[i], b.z[k]-b.z[i], b.exactA[i], b.exactA[k], block);
-            for (int row = 0; row < 3; row++)
+            for (int row = 0; row < 3; row++) {
                 sum[row] += block[3*row]*b.exactFx[k]+block[3*row+1]*b.exactFy[k]+block[3*row+2]*b.exactFz[k];
+                if (columnSums != nullptr)
+                    columnSums[3*(k-begin)+row] += block[3*row]*b.exactFx[i]+block[3*row+1]*b.exactFy[i]+block[3*row+2]*b.exactFz[i];
+            }
         }
 }
 
@@ -149,7 +157,7 @@ template <class Real> LANES_INLINE void addImagePairs(const Blobs<Real>& b, int 
  * both of its blobs: sum += the pairs' part of (M f)_i, and column[k][j - begin] += that of
  * (M f)_j, in the lanes' precision (column[0..2]: x, y, z). The free part of the pairs apart
  * (r > a_i + a_j; masks and the return value as addPairsApart()'s, the rest added by
- * addPairsLeftOutBothWays()); above a wall (Wall) the image part of every pair, whose block for
+ * addPairsLeftOut() with the columns' sums); above a wall (Wall) the image part of every pair, whose block for
  * j's row is the transpose of i's.
  */
 template <class Real, bool Wall, class Mask>
@@ -192,24 +200,6 @@ LANES_INLINE bool addPairsBothWays(const Blobs<Real>& b, int i, int begin, int e
     }
     addLaneSums(sum, vx, vy, vz);
     return anyLane<Real>(any);
-}
-
-/** Add the free part of the pairs addPairsBothWays() left out (masks) exactly, to row i's sum and to
- *  the columns' (columnSums: 3 doubles per source from begin). */
-template <class Real, class Mask>
-inline void addPairsLeftOutBothWays(const Blobs<Real>& b, int i, int begin, int end, const Mask* masks, double sum[3], double* columnSums) {
-    for (int j = begin, c = 0; j < end; j += Lanes<Real>::Count, c++)
-        for (int lane = 0; lane < Lanes<Real>::Count; lane++) {
-            const int k = j+lane;
-            if (masks[c][lane] == 0 || k >= b.count)
-                continue;
-            double block[9];
-            RotnePragerYamakawa::mobilityBlock(b.x[k]-b.x[i], b.y[k]-b.y[i], b.z[k]-b.z[i], b.exactA[i], b.exactA[k], block);
-            for (int row = 0; row < 3; row++) {
-                sum[row] += block[3*row]*b.exactFx[k]+block[3*row+1]*b.exactFy[k]+block[3*row+2]*b.exactFz[k];
-                columnSums[3*(k-begin)+row] += block[3*row]*b.exactFx[i]+block[3*row+1]*b.exactFy[i]+block[3*row+2]*b.exactFz[i];
-            }
-        }
 }
 
 } // namespace TiledBlobLanes

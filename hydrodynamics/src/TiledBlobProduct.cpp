@@ -31,8 +31,7 @@ const int RowBlock = 32;
  * tile of the sources in turn. A row's own blob among the sources adds its image only.
  */
 template <class Real> LANES_INLINE void addRows(const Blobs<Real>& b, int begin, int end, int sourceBegin, int sourceEnd, double* sums) {
-    typedef decltype(typename Lanes<Real>::Vector{} < typename Lanes<Real>::Vector{}) Mask;
-    Mask masks[TiledBlobProduct::Tile/Lanes<Real>::Count];
+    typename Lanes<Real>::Mask masks[TiledBlobProduct::Tile/Lanes<Real>::Count];
     for (int first = begin; first < end; first += RowBlock) {
         const int last = std::min(end, first+RowBlock);
         for (int tile = sourceBegin; tile < sourceEnd; tile += TiledBlobProduct::Tile) {
@@ -56,8 +55,7 @@ template <class Real> LANES_INLINE void addRows(const Blobs<Real>& b, int begin,
  */
 template <class Real, bool Wall> LANES_INLINE void addTilePair(const Blobs<Real>& b, int rowBegin, int rowEnd, int columnBegin, int columnEnd,
                                                                double* rowSums, double* columnSums) {
-    typedef decltype(typename Lanes<Real>::Vector{} < typename Lanes<Real>::Vector{}) Mask;
-    Mask masks[TiledBlobProduct::Tile/Lanes<Real>::Count];
+    typename Lanes<Real>::Mask masks[TiledBlobProduct::Tile/Lanes<Real>::Count];
     Real columns[3][TiledBlobProduct::Tile];
     Real* column[3] = {columns[0], columns[1], columns[2]};
     const int width = columnEnd-columnBegin;
@@ -67,7 +65,7 @@ template <class Real, bool Wall> LANES_INLINE void addTilePair(const Blobs<Real>
             std::fill(column[k], column[k]+width, (Real) 0);
         for (int i = first; i < last; i++)
             if (addPairsBothWays<Real, Wall>(b, i, columnBegin, columnEnd, masks, rowSums+3*(i-rowBegin), column))
-                addPairsLeftOutBothWays(b, i, columnBegin, columnEnd, masks, rowSums+3*(i-rowBegin), columnSums);
+                addPairsLeftOut(b, i, columnBegin, columnEnd, masks, rowSums+3*(i-rowBegin), columnSums);
         for (int j = 0; j < width; j++)
             for (int k = 0; k < 3; k++)
                 columnSums[3*j+k] += column[k][j];
@@ -236,6 +234,13 @@ void TiledBlobProduct::addRowSums(int begin, int end, int sourceBegin, int sourc
         addRowsInDouble(inDouble(), begin, end, sourceBegin, sourceEnd, sums);
 }
 
+void TiledBlobProduct::addTilePairSums(int rowBegin, int rowEnd, int columnBegin, int columnEnd, double* rowSums, double* columnSums) const {
+    if (single)
+        addTilePairInSingle(inSingle(), rowBegin, rowEnd, columnBegin, columnEnd, rowSums, columnSums);
+    else
+        addTilePairInDouble(inDouble(), rowBegin, rowEnd, columnBegin, columnEnd, rowSums, columnSums);
+}
+
 void TiledBlobProduct::multiplyByTilePairs(int tile, Eigen::VectorXd& out, const KrylovSolvers::ParallelFor& parallel) {
     // Task (I, J), I <= J, evaluates the pairs of tiles I and J (once each where I < J) into a slot
     // of its own: 3 sums per blob of I, then 3 per blob of J. Each blob's sum over the slots is then
@@ -246,8 +251,6 @@ void TiledBlobProduct::multiplyByTilePairs(int tile, Eigen::VectorXd& out, const
         for (int second = first; second < numTiles; second++)
             tasks.push_back({first, second});
     tileSums.resize(tasks.size()*slotSize);
-    const Blobs<double> doubles = inDouble();
-    const Blobs<float> singles = inSingle();
     parallel(tasks.size(), [&] (int begin, int end) {
         for (int t = begin; t < end; t++) {
             double* slot = tileSums.data()+(size_t) t*slotSize;
@@ -255,10 +258,8 @@ void TiledBlobProduct::multiplyByTilePairs(int tile, Eigen::VectorXd& out, const
             const int rows = tasks[t].first*tile, columns = tasks[t].second*tile;
             if (rows == columns)
                 addRowSums(rows, std::min(numBlobs, rows+tile), rows, std::min(padded, rows+tile), slot);
-            else if (single)
-                addTilePairInSingle(singles, rows, rows+tile, columns, std::min(padded, columns+tile), slot, slot+3*tile);
             else
-                addTilePairInDouble(doubles, rows, rows+tile, columns, std::min(padded, columns+tile), slot, slot+3*tile);
+                addTilePairSums(rows, rows+tile, columns, std::min(padded, columns+tile), slot, slot+3*tile);
         }
     });
     auto slotOf = [&] (int first, int second) { return (size_t) (first*numTiles-first*(first-1)/2+(second-first))*slotSize; };

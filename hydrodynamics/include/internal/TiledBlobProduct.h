@@ -97,6 +97,8 @@ private:
     TiledBlobLanes::Blobs<float> inSingle() const;
     /** sums (3 per row from begin's) += the rows' pairs with the sources [sourceBegin, sourceEnd), each row on its own. */
     void addRowSums(int begin, int end, int sourceBegin, int sourceEnd, double* sums) const;
+    /** rowSums and columnSums (3 per blob from rowBegin's and columnBegin's) += the pairs of two disjoint tiles, each once. */
+    void addTilePairSums(int rowBegin, int rowEnd, int columnBegin, int columnEnd, double* rowSums, double* columnSums) const;
     /** out (3 per blob, without the self term) = M f by tasks over pairs of tiles, each pair of blobs evaluated once. */
     void multiplyByTilePairs(int tile, Eigen::VectorXd& out, const KrylovSolvers::ParallelFor& parallel);
 };
