@@ -62,7 +62,7 @@ def main():
     for kind in ('Langevin', tolerance_error.STIFF):
         mean, error, iterations = seconds_per_step(scene, kind, args.steps, args.threads)
         label = 'h = m/gamma' if kind == 'Langevin' else 'h = 30 m/gamma'
-        lines.append(f'| {label} | {mean:.3f} ± {error:.3f} | {tuple(iterations)} |')
+        lines.append(f'| {label} | {mean:.3g} ± {error:.2g} | {tuple(iterations)} |')
         print(lines[-1], flush=True)
     pathlib.Path(args.out).write_text('\n'.join(lines)+'\n', encoding='utf-8')
 
