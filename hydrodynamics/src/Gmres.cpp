@@ -81,7 +81,12 @@ Result KrylovSolvers::gmres(const Operator& a, const Operator& preconditioner, c
     const double norm = b.norm();
     VectorXd ax;
     while (true) {
-        a(x, ax);  // the true residual at each restart, not the cycle's estimate
+        // The true residual at each restart, not the cycle's estimate (from a zero start, b itself:
+        // no product).
+        if (report.iterations == 0 && x.isZero(0))
+            ax = VectorXd::Zero(b.size());
+        else
+            a(x, ax);
         const VectorXd r = b-ax;
         report.residual = r.norm()/norm;
         if (!std::isfinite(report.residual)) {

@@ -168,7 +168,9 @@ Result KrylovSolvers::lanczosPower(const Operator& a, const VectorXd& w, VectorX
     Eigen::MatrixXd basis(n, maxBasis);
     VectorXd alpha(maxBasis), beta(maxBasis);
     basis.col(0) = w/wNorm;
-    VectorXd v(n), previous = VectorXd::Zero(n);
+    VectorXd v(n);
+    // The estimates of the last three iterations, the one of iteration m in slot m % 3 (zero before any).
+    std::vector<VectorXd> recent(3, VectorXd::Zero(n));
     for (int m = 0; m < maxBasis; m++) {
         a(basis.col(m), v);
         report.iterations = m+1;
@@ -185,9 +187,9 @@ Result KrylovSolvers::lanczosPower(const Operator& a, const VectorXd& w, VectorX
             return report;
         }
         const bool exhausted = (beta[m] <= 1e-14*std::abs(alpha[m]) || m+1 == n);
-        if (!exhausted && m+1 < maxBasis && m%3 != 2) {
-            // The estimate is formed every third vector: its eigendecomposition costs more than a
-            // product with a small A.
+        if (!exhausted && m+1 < maxBasis && n < EstimateEveryVector && m%3 != 2) {
+            // For a small A the estimate is formed every third vector: its eigendecomposition costs
+            // more than a product.
             basis.col(m+1) = v/beta[m];
             continue;
         }
@@ -212,11 +214,14 @@ Result KrylovSolvers::lanczosPower(const Operator& a, const VectorXd& w, VectorX
         const VectorXd powers = (power == 0.5 ? VectorXd(values.cwiseSqrt()) : VectorXd(values.array().pow(power).matrix()));
         VectorXd root = eigen.eigenvectors()*powers.asDiagonal()*eigen.eigenvectors().row(0).transpose();
         result = wNorm*(basis.leftCols(m+1)*root);
-        report.residual = (result-previous).norm()/result.norm();
+        // The change over three iterations: over one, it would stop early (the estimates' error
+        // shrinks slowly once their change is small: the boomerang suspensions' Brownian steps erred
+        // by 2 to 10 times the tolerance).
+        report.residual = (result-recent[m%3]).norm()/result.norm();
         // Converged, or the Krylov space is exhausted (then the answer is exact).
         if ((m > 2 && report.residual <= tolerance) || exhausted)
             return report;
-        previous = result;
+        recent[m%3] = result;
         if (m+1 < maxBasis)
             basis.col(m+1) = v/beta[m];
     }

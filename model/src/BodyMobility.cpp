@@ -107,7 +107,7 @@ VectorXd BodyMobility::unitScales(double& mu0) const {
 }
 
 int BodyMobility::solve(const vector<BodyState>& states, const VectorXd& g, const VectorXd& slip, VectorXd& out, double tolerance, int maxIterations,
-                        BlobMobility& mobility, const Vec3* box) {
+                        BlobMobility& mobility, const Vec3* box, VectorXd* blobForces) {
     placeBlobs(states, mobility, box);
     const int blobs = 3*numBlobs, coordinates = interactions.getNumCoordinates();
     VectorXd rhs(blobs+coordinates), x;
@@ -132,7 +132,14 @@ int BodyMobility::solve(const vector<BodyState>& states, const VectorXd& g, cons
                                             KrylovSolvers::gmres(product, preconditioner, d.cwiseProduct(rhs)/mu0, x, tolerance, maxIterations),
                                             model.getNumBodies(), numBlobs);
     out = d.tail(coordinates).cwiseProduct(x.tail(coordinates));
+    if (blobForces != NULL)
+        *blobForces = d.head(blobs).cwiseProduct(x.head(blobs));
     return iterations;
+}
+
+void BodyMobility::blobVelocities(const vector<BodyState>& states, const VectorXd& f, VectorXd& out, BlobMobility& mobility, const Vec3* box) {
+    placeBlobs(states, mobility, box);
+    mobility.multiply(f, out);
 }
 
 int BodyMobility::blobNoise(const vector<BodyState>& states, const VectorXd& w, VectorXd& slip, double tolerance, int maxIterations,

@@ -224,8 +224,8 @@ public:
      * the noise's Lanczos iteration (M^-1/2 w, preconditioned by every body's own blobs), 0 (the
      * noise needs no conjugate gradients since it is taken that way), and the friction's conjugate
      * gradients. RigidBrownianIntegrator: the noise's Lanczos iteration (M^1/2 w, preconditioned the
-     * same way), the GMRES iterations of the drift's two mobility solves together, and those of the
-     * step's mobility solve. All zero after a dense step, at zero viscosity or without interactions;
+     * same way), the GMRES iterations of the drift's mobility solve, and those of the step's mobility
+     * solve. All zero after a dense step, at zero viscosity or without interactions;
      * the noise's zero at zero temperature. The integrator must be bound to a Context.
      */
     std::vector<int> getKrylovIterations() const;
@@ -266,13 +266,13 @@ public:
     }
     /**
      * Set the relative residual at which the matrix-free solves of the coupled friction stop
-     * (conjugate gradients and GMRES: |b - A x| <= tolerance |b|; Lanczos: two successive estimates
-     * within tolerance), between 1e-12 (what double precision reaches reliably) and 0.1. The default,
-     * 1e-4, is chosen from the error it causes (benchmarks/hydrodynamics/tolerance_error.py, boomerang
-     * suspensions of 16 to 256 bodies): a step of RigidLangevinIntegrator is then within about 4e-5 of
-     * the exactly solved step, relative, and one of RigidBrownianIntegrator within 7.5e-4 (its drift's
-     * solves are divided by a displacement of tolerance^1/3), so a mean or covariance of the motion is
-     * off by at most about 0.15%, below what runs resolve; 1e-8 costs about twice the products. With
+     * (conjugate gradients and GMRES: |b - A x| <= tolerance |b|; Lanczos: its estimate within
+     * tolerance of the one three iterations before), between 1e-12 (what double precision reaches
+     * reliably) and 0.1. The default, 1e-4, is chosen from the error it causes
+     * (benchmarks/hydrodynamics/tolerance_error.py, boomerang suspensions of 16 to 256 bodies): a step
+     * of RigidLangevinIntegrator is then within about 5.4e-5 of the exactly solved step, relative, and
+     * one of RigidBrownianIntegrator within 1.6e-4, so a mean or covariance of the motion is off by at
+     * most about 0.03%, below what runs resolve; 1e-8 costs about twice the products. With
      * SpectralSolver in a periodic box the tolerance is also the positively split Ewald products'
      * epsilon (their error is at most 0.3 epsilon of |M f|, so it does not limit the solves), which
      * must be at least 1e-10: a spectral step at a tighter tolerance is refused. At 1e-5 or looser

@@ -31,18 +31,22 @@ namespace RigidLangevinPlugin {
  *
  * The scheme is Euler-Maruyama with the drift from random finite differences (Delong, Usabiaga,
  * Delmotte, Donev et al., J. Chem. Phys. 140, 134110 (2014)): kT (d/dq . N) is estimated without
- * derivatives as (kT/delta) [N(q + delta W'/2) - N(q - delta W'/2)] W', W' independent standard
- * normal numbers, displacements of delta = tolerance^(1/3) times the smallest blob radius a and
- * turns that move a body's farthest blob as far (delta a/r radians, at most delta; see
- * setHydrodynamicTolerance(); the estimate's bias is O(delta^2) and the solves' error adds
- * tolerance/delta). It is weakly first order. With hydrodynamic interactions a step
- * takes one Lanczos iteration (the noise through the blobs, M^1/2 W) and three mobility solves (the
- * forces and noise together, and the two displaced configurations), each a saddle-point problem
- * solved by GMRES with every body's own blocks as preconditioner: the cost of RigidMultiblobsWall's
- * recommended trapezoidal-slip scheme (three solves and a Lanczos), with the drift explicit and
- * testable term by term, and one code path for every mobility (unbounded, above a wall, in a
- * periodic box). Without interactions every body's 6x6 mobility is precomputed and a step needs no
- * solve.
+ * derivatives as kT times N's derivative along a random displacement W' (independent standard
+ * normal numbers times the smallest blob radius a, and turns that move a body's farthest blob as
+ * far: a/r radians, at most 1) applied to W', a central difference over +-delta/2 of it. It is
+ * weakly first order. Dense (and without interactions), the difference is of N itself, delta =
+ * 1e-4. Matrix-free, it is taken in the traction form of Sprinkle, Balboa Usabiaga, Patankar and
+ * Donev (J. Chem. Phys. 147, 244103 (2017)), whose differences are of products with the blobs'
+ * mobility at displaced blobs after one solve, and whose result joins the step's own solve as a
+ * force and a slip: a step takes one Lanczos iteration (the noise through the blobs, M^1/2 W) and
+ * two mobility solves (the drift's, and the forces, noise and drift together), each a saddle-point
+ * problem solved by GMRES with every body's own blocks as preconditioner, and two more products;
+ * delta = tolerance^1/2, within [1e-4, 1e-2], so that neither the difference's error (delta^2) nor
+ * the products' rounding (single precision's 3e-7 over delta) exceeds about the tolerance. That is
+ * one solve fewer than RigidMultiblobsWall's recommended trapezoidal-slip scheme (three solves and
+ * a Lanczos), with the drift explicit and testable direction by direction against the dense one,
+ * and one code path for every mobility (unbounded, above a wall, in a periodic box). Without
+ * interactions every body's 6x6 mobility is precomputed and a step needs no solve.
  *
  * The step size is set by the forces (a body must not move across the structure of its potential,
  * or through a wall, in one step), not by inertia: a colloid scene in OpenMM's units (lengths of

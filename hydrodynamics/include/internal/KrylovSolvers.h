@@ -55,8 +55,8 @@ struct Result {
     /** The tolerance and iteration limit asked for. */
     double tolerance;
     int maxIterations;
-    /** Conjugate gradients: the relative residual |b - A x|/|b| reached; Lanczos: the relative
-     *  change |result - previous|/|result| of its last two estimates. */
+    /** Conjugate gradients and GMRES: the relative residual |b - A x|/|b| reached; Lanczos: the
+     *  relative change of its estimate over its last three iterations (lanczosSquareRoot()). */
     double residual;
     /** NotPositiveDefinite and PreconditionerNotPositiveDefinite: the Rayleigh quotient that is not
      *  positive (p^T A p/p^T p, r^T P r/r^T r, or T's smallest eigenvalue), and the largest one of
@@ -66,6 +66,10 @@ struct Result {
 
 /** T's eigenvalues above -this times its largest are taken as rounding errors of zero. */
 const double NegativeRitzTolerance = 1e-10;
+/** From this size of A on (300 entries, 100 blobs), the Lanczos estimate is formed after every
+ *  product rather than every third: a product then costs more than the estimate's eigendecomposition,
+ *  and a solve stops as soon as it may. */
+const int EstimateEveryVector = 300;
 
 /** Why a Krylov method ended as it did, in words with its numbers ("did not converge in ..."). */
 OPENMM_EXPORT_HYDRODYNAMICS std::string explain(const Result& result);
@@ -98,8 +102,9 @@ OPENMM_EXPORT_HYDRODYNAMICS void scaledStart(const Operator& a, const Eigen::Vec
 
 /**
  * result = A^1/2 w by the Lanczos process: with V the orthonormal Krylov basis of A from w and T
- * the tridiagonal V^T A V, result = |w| V T^1/2 e_1, stopped when two successive estimates (formed
- * every third iteration) differ by at most tolerance |result|. The basis is reorthogonalised fully
+ * the tridiagonal V^T A V, result = |w| V T^1/2 e_1, stopped from the fourth iteration on when it
+ * differs from the estimate of three iterations before by at most tolerance |result|. The estimate
+ * is formed every iteration (every third for A smaller than EstimateEveryVector). The basis is reorthogonalised fully
  * (the number of iterations is small and A's products dominate). T's eigenvalues are checked at
  * every estimate (NotPositiveDefinite) and every product for finiteness.
  */
@@ -121,7 +126,7 @@ OPENMM_EXPORT_HYDRODYNAMICS Result lanczosPower(const Operator& a, const Eigen::
  * approximation of A^-1 (any nonsingular operator: A need not be symmetric or definite, as the
  * rigid bodies' saddle-point mobility problem is not), starting from x as given (resized to zero if
  * its size differs), until |b - A x| <= tolerance |b|. The residual is the true one at each
- * restart. Outcomes: Converged, NotConverged (after maxIterations products with A), NotFinite.
+ * restart (one product each, none for a zero start). Outcomes: Converged, NotConverged (after maxIterations products with A), NotFinite.
  */
 OPENMM_EXPORT_HYDRODYNAMICS Result gmres(const Operator& a, const Operator& preconditioner, const Eigen::VectorXd& b, Eigen::VectorXd& x,
                                          double tolerance, int maxIterations, int restart = 60);

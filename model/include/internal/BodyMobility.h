@@ -42,10 +42,17 @@ public:
     void denseNoise(const Eigen::VectorXd& w, Eigen::VectorXd& out) const;
     /**
      * Matrix-free: out = N (g + K'^T M^-1 slip) for the bodies in these states (an empty slip is
-     * zero), the mobility products by mobility. Returns the GMRES iterations.
+     * zero), the mobility products by mobility. Returns the GMRES iterations. blobForces, if given,
+     * receives the blobs' lab forces lambda = M^-1 (K' out - slip), which balance g (K'^T lambda = g).
      */
     int solve(const std::vector<BodyState>& states, const Eigen::VectorXd& g, const Eigen::VectorXd& slip, Eigen::VectorXd& out,
-              double tolerance, int maxIterations, BlobMobility& mobility, const OpenMM::Vec3* box);
+              double tolerance, int maxIterations, BlobMobility& mobility, const OpenMM::Vec3* box, Eigen::VectorXd* blobForces = NULL);
+    /** out = M f at these states: the blobs' lab velocities under lab forces f (3 per blob). */
+    void blobVelocities(const std::vector<BodyState>& states, const Eigen::VectorXd& f, Eigen::VectorXd& out, BlobMobility& mobility,
+                        const OpenMM::Vec3* box);
+    /** K' u (the blobs' lab velocities of generalised velocities u) and K'^T f (the generalised forces of lab blob forces f), at these states. */
+    void applyK(const std::vector<BodyState>& states, const Eigen::VectorXd& u, Eigen::VectorXd& out) const;
+    void applyKT(const std::vector<BodyState>& states, const Eigen::VectorXd& f, Eigen::VectorXd& out) const;
     /** Matrix-free: slip = M^1/2 w at these states (Lanczos), w three normals per blob; returns its iterations. */
     int blobNoise(const std::vector<BodyState>& states, const Eigen::VectorXd& w, Eigen::VectorXd& slip, double tolerance, int maxIterations,
                   BlobMobility& mobility, const OpenMM::Vec3* box);
@@ -57,9 +64,6 @@ private:
     /** The saddle-point operator and its block preconditioner for the bodies in states. */
     void saddleProduct(const std::vector<BodyState>& states, BlobMobility& mobility, const Eigen::VectorXd& in, Eigen::VectorXd& out) const;
     void blockPreconditioner(const std::vector<BodyState>& states, const Eigen::VectorXd& in, Eigen::VectorXd& out) const;
-    /** K' u (lab blob velocities) and K'^T f (generalised forces of lab blob forces). */
-    void applyK(const std::vector<BodyState>& states, const Eigen::VectorXd& u, Eigen::VectorXd& out) const;
-    void applyKT(const std::vector<BodyState>& states, const Eigen::VectorXd& f, Eigen::VectorXd& out) const;
     const HydrodynamicInteractions& interactions;
     const RigidBodyModel& model;
     std::vector<int> firstBlob;

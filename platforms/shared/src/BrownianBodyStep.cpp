@@ -13,7 +13,7 @@ using std::vector;
 
 namespace {
 
-typedef Eigen::Matrix<double, 6, 1> Vector6;
+typedef BrownianBodyStep::Vector6 Vector6;
 
 /** A body's active body-frame coordinates (velocity, then rates about its rotating axes) as a lab 6-vector. */
 Vector6 activeToLab(const BodyState& s, const BodyType& type, const VectorXd& active) {
@@ -116,26 +116,29 @@ VectorXd BrownianBodyStep::ownVelocities(const VectorXd& g, const CoupledStepPar
     return u;
 }
 
-VectorXd BrownianBodyStep::coupledVelocities(const vector<BodyState>& states, const VectorXd& g, const CoupledStepParameters& step,
-                                             const CoupledSolve& solve, const std::function<double ()>& normal, BlobMobility& mobility) {
+VectorXd BrownianBodyStep::denseVelocities(const vector<BodyState>& states, const VectorXd& g, const CoupledStepParameters& step,
+                                           const std::function<double ()>& normal) {
     // The blobs' mobility is per unit viscosity: N = N_1/viscosity, and the noise's covariance
-    // (2 kT/h) N comes from a slip of covariance (2 kT viscosity/h) M, or L^-T w with L L^T = R_1.
+    // (2 kT/h) N comes from L^-T w with L L^T = R_1.
     VectorXd u;
-    if (!solve.krylov) {
-        bodyMobility->factorize(states, step.box);
-        bodyMobility->denseMultiply(g, u);
-        u /= step.viscosity;
-        if (step.kT > 0) {
-            VectorXd w(g.size()), noise;
-            for (int i = 0; i < w.size(); i++)
-                w[i] = normal();
-            bodyMobility->denseNoise(w, noise);
-            u += std::sqrt(2*step.kT/(step.stepSize*step.viscosity))*noise;
-        }
-        lastIterations = {0, 0, 0};
-        return u;
+    bodyMobility->factorize(states, step.box);
+    bodyMobility->denseMultiply(g, u);
+    u /= step.viscosity;
+    if (step.kT > 0) {
+        VectorXd w(g.size()), noise;
+        for (int i = 0; i < w.size(); i++)
+            w[i] = normal();
+        bodyMobility->denseNoise(w, noise);
+        u += std::sqrt(2*step.kT/(step.stepSize*step.viscosity))*noise;
     }
-    VectorXd slip;
+    lastIterations = {0, 0, 0};
+    return u;
+}
+
+VectorXd BrownianBodyStep::krylovVelocities(const vector<BodyState>& states, VectorXd g, const CoupledStepParameters& step, const CoupledSolve& solve,
+                                            const std::function<double ()>& normal, BlobMobility& mobility, vector<Vector6>& driftVelocity) {
+    // The noise's covariance (2 kT/h) N comes from a slip of covariance (2 kT viscosity/h) M (N = N_1/viscosity).
+    VectorXd slip, u;
     lastIterations = {0, 0, 0};
     if (step.kT > 0) {
         VectorXd w(3*interactions->getNumBlobs());
@@ -143,13 +146,43 @@ VectorXd BrownianBodyStep::coupledVelocities(const vector<BodyState>& states, co
             w[i] = normal();
         lastIterations.noise = bodyMobility->blobNoise(states, w, slip, solve.tolerance, solve.maxIterations, mobility, step.box);
         slip *= std::sqrt(2*step.kT*step.viscosity/step.stepSize);
+        DriftTerms terms = tractionTerms(states, randomDirections(normal), step, solve, mobility);
+        g += terms.force;
+        slip += terms.slip;
+        driftVelocity = terms.velocity;
     }
-    lastIterations.friction += bodyMobility->solve(states, g, slip, u, solve.tolerance, solve.maxIterations, mobility, step.box);
+    lastIterations.friction = bodyMobility->solve(states, g, slip, u, solve.tolerance, solve.maxIterations, mobility, step.box);
     return u/step.viscosity;
 }
 
-vector<Vector6> BrownianBodyStep::labMobility(const vector<BodyState>& states, const vector<Vector6>& g, const CoupledStepParameters& step,
-                                              const CoupledSolve& solve, const vector<TypeStepCoefficients>& coefficients, BlobMobility& mobility) {
+vector<BrownianBodyStep::Vector6> BrownianBodyStep::randomDirections(const std::function<double ()>& normal) const {
+    vector<Vector6> w(model.getNumBodies());
+    for (Vector6& v : w)
+        for (int i = 0; i < 6; i++)
+            v[i] = normal();
+    return w;
+}
+
+vector<BrownianBodyStep::Vector6> BrownianBodyStep::directionForces(const vector<Vector6>& w) const {
+    vector<Vector6> f = w;
+    for (int b = 0; b < model.getNumBodies(); b++) {
+        f[b].head<3>() /= driftLength;
+        f[b].tail<3>() /= (driftAngle.empty() ? 1.0 : driftAngle[model.getBodyType(b)]);
+    }
+    return f;
+}
+
+vector<BodyState> BrownianBodyStep::displaced(const vector<BodyState>& states, const vector<Vector6>& w, double sign, double delta) const {
+    vector<BodyState> moved = states;
+    for (int b = 0; b < model.getNumBodies(); b++) {
+        const double angle = (driftAngle.empty() ? 1.0 : driftAngle[model.getBodyType(b)]), half = 0.5*sign*delta;
+        moveBody(moved[b], model.getType(model.getBodyType(b)), Vec3(w[b][0], w[b][1], w[b][2])*(half*driftLength), Vec3(w[b][3], w[b][4], w[b][5])*(half*angle));
+    }
+    return moved;
+}
+
+vector<BrownianBodyStep::Vector6> BrownianBodyStep::labMobility(const vector<BodyState>& states, const vector<Vector6>& g, const CoupledStepParameters& step,
+                                                                const vector<TypeStepCoefficients>& coefficients) {
     const int numBodies = model.getNumBodies();
     vector<Vector6> out(numBodies);
     if (interactions == NULL) {
@@ -165,12 +198,8 @@ vector<Vector6> BrownianBodyStep::labMobility(const vector<BodyState>& states, c
         const BodyType& type = model.getType(model.getBodyType(b));
         active.segment(firstCoordinate[b], type.getNumDegreesOfFreedom()) = labToActive(states[b], type, g[b]);
     }
-    if (solve.krylov)
-        lastIterations.noiseSolve += bodyMobility->solve(states, active, VectorXd(), u, solve.tolerance, solve.maxIterations, mobility, step.box);
-    else {
-        bodyMobility->factorize(states, step.box);
-        bodyMobility->denseMultiply(active, u);
-    }
+    bodyMobility->factorize(states, step.box);
+    bodyMobility->denseMultiply(active, u);
     for (int b = 0; b < numBodies; b++) {
         const BodyType& type = model.getType(model.getBodyType(b));
         out[b] = activeToLab(states[b], type, u.segment(firstCoordinate[b], type.getNumDegreesOfFreedom()))/step.viscosity;
@@ -178,41 +207,79 @@ vector<Vector6> BrownianBodyStep::labMobility(const vector<BodyState>& states, c
     return out;
 }
 
-vector<Vector6> BrownianBodyStep::drift(const vector<BodyState>& states, const CoupledStepParameters& step, const CoupledSolve& solve,
-                                        const vector<TypeStepCoefficients>& coefficients, const std::function<double ()>& normal, BlobMobility& mobility) {
-    // (kT/delta) [N(q + delta D W/2) - N(q - delta D W/2)] D^-1 W: its mean is kT d/dq . N to
-    // O(delta^2); the solves' errors add about tolerance/delta, so delta = tolerance^(1/3) where
-    // they are iterative.
-    const int numBodies = model.getNumBodies();
-    const double delta = (interactions != NULL && solve.krylov ? std::max(1e-4, std::cbrt(solve.tolerance)) : 1e-4);
-    vector<Vector6> w(numBodies), scaled(numBodies);
-    vector<BodyState> plus = states, minus = states;
-    for (int b = 0; b < numBodies; b++) {
+vector<BrownianBodyStep::Vector6> BrownianBodyStep::mobilityDifference(const vector<BodyState>& states, const vector<Vector6>& w,
+                                                                       const CoupledStepParameters& step, const vector<TypeStepCoefficients>& coefficients) {
+    // N's solves here are exact, so delta is limited only by rounding.
+    const double delta = 1e-4;
+    const vector<Vector6> f = directionForces(w);
+    vector<Vector6> ahead = labMobility(displaced(states, w, 1, delta), f, step, coefficients);
+    vector<Vector6> behind = labMobility(displaced(states, w, -1, delta), f, step, coefficients);
+    for (int b = 0; b < model.getNumBodies(); b++)
+        ahead[b] = (step.kT/delta)*(ahead[b]-behind[b]);
+    return ahead;
+}
+
+BrownianBodyStep::DriftTerms BrownianBodyStep::tractionTerms(const vector<BodyState>& states, const vector<Vector6>& w, const CoupledStepParameters& step,
+                                                             const CoupledSolve& solve, BlobMobility& mobility) {
+    // The differences are of products, exact to rounding (single precision's 3e-7 of the product at
+    // tolerances from 1e-5 up, HostBlobMobility): delta = sqrt(tolerance), within [1e-4, 1e-2], keeps
+    // both the central difference's error (delta^2) and rounding's (3e-7/delta) near the tolerance.
+    const double delta = std::min(1e-2, std::max(1e-4, std::sqrt(solve.tolerance)));
+    const vector<Vector6> f = directionForces(w);
+    VectorXd g(interactions->getNumCoordinates()), u, lambda;
+    for (int b = 0; b < model.getNumBodies(); b++) {
         const BodyType& type = model.getType(model.getBodyType(b));
-        for (int i = 0; i < 6; i++)
-            w[b][i] = normal();
-        scaled[b] = w[b];
-        const double angle = (driftAngle.empty() ? 1.0 : driftAngle[model.getBodyType(b)]);
-        scaled[b].head<3>() /= driftLength;
-        scaled[b].tail<3>() /= angle;
-        Vec3 shift = Vec3(w[b][0], w[b][1], w[b][2])*(0.5*delta*driftLength), turn = Vec3(w[b][3], w[b][4], w[b][5])*(0.5*delta*angle);
-        moveBody(plus[b], type, shift, turn);
-        moveBody(minus[b], type, -shift, -turn);
+        g.segment(firstCoordinate[b], type.getNumDegreesOfFreedom()) = labToActive(states[b], type, f[b]);
     }
-    vector<Vector6> ahead = labMobility(plus, scaled, step, solve, coefficients, mobility);
-    vector<Vector6> behind = labMobility(minus, scaled, step, solve, coefficients, mobility);
-    vector<Vector6> result(numBodies);
-    for (int b = 0; b < numBodies; b++)
-        result[b] = (step.kT/delta)*(ahead[b]-behind[b]);
-    return result;
+    lastIterations.noiseSolve = bodyMobility->solve(states, g, VectorXd(), u, solve.tolerance, solve.maxIterations, mobility, step.box, &lambda);
+    const vector<BodyState> plus = displaced(states, w, 1, delta), minus = displaced(states, w, -1, delta);
+    DriftTerms terms;
+    VectorXd plusKT, minusKT, plusM, minusM, plusK, minusK;
+    bodyMobility->applyKT(plus, lambda, plusKT);
+    bodyMobility->applyKT(minus, lambda, minusKT);
+    terms.force = minusKT-plusKT;
+    terms.velocity.resize(model.getNumBodies());
+    for (int b = 0; b < model.getNumBodies(); b++) {
+        const BodyType& type = model.getType(model.getBodyType(b));
+        const int c = firstCoordinate[b], n = type.getNumDegreesOfFreedom();
+        terms.force.segment(c, n) += labToActive(plus[b], type, f[b])-labToActive(minus[b], type, f[b]);
+        terms.velocity[b] = (step.kT/(delta*step.viscosity))*(activeToLab(plus[b], type, u.segment(c, n))-activeToLab(minus[b], type, u.segment(c, n)));
+    }
+    bodyMobility->blobVelocities(plus, lambda, plusM, mobility, step.box);
+    bodyMobility->blobVelocities(minus, lambda, minusM, mobility, step.box);
+    bodyMobility->applyK(plus, u, plusK);
+    bodyMobility->applyK(minus, u, minusK);
+    terms.force *= step.kT/delta;
+    terms.slip = (step.kT/delta)*((plusM-minusM)-(plusK-minusK));
+    return terms;
+}
+
+vector<BrownianBodyStep::Vector6> BrownianBodyStep::drift(const vector<BodyState>& states, const vector<Vector6>& w, const CoupledStepParameters& step,
+                                                          const CoupledSolve& solve, const vector<TypeStepCoefficients>& coefficients, BlobMobility& mobility) {
+    if (interactions == NULL || !solve.krylov)
+        return mobilityDifference(states, w, step, coefficients);
+    DriftTerms terms = tractionTerms(states, w, step, solve, mobility);
+    VectorXd u;
+    bodyMobility->solve(states, terms.force, terms.slip, u, solve.tolerance, solve.maxIterations, mobility, step.box);
+    for (int b = 0; b < model.getNumBodies(); b++) {
+        const BodyType& type = model.getType(model.getBodyType(b));
+        terms.velocity[b] += activeToLab(states[b], type, u.segment(firstCoordinate[b], type.getNumDegreesOfFreedom()))/step.viscosity;
+    }
+    return terms.velocity;
 }
 
 void BrownianBodyStep::take(vector<BodyState>& states, const vector<Vec3>& forces, const CoupledStepParameters& step, const CoupledSolve& solve,
                             const vector<TypeStepCoefficients>& coefficients, const std::function<double ()>& normal, BlobMobility& mobility) {
     const double h = step.stepSize;
-    VectorXd g = generalizedForces(states, forces);
-    VectorXd u = (interactions == NULL ? ownVelocities(g, step, coefficients, normal) : coupledVelocities(states, g, step, solve, normal, mobility));
-    vector<Vector6> driftVelocity = (step.kT > 0 ? drift(states, step, solve, coefficients, normal, mobility) : vector<Vector6>(states.size(), Vector6::Zero()));
+    VectorXd g = generalizedForces(states, forces), u;
+    vector<Vector6> driftVelocity(states.size(), Vector6::Zero());
+    if (interactions != NULL && solve.krylov)
+        u = krylovVelocities(states, g, step, solve, normal, mobility, driftVelocity);
+    else {
+        u = (interactions == NULL ? ownVelocities(g, step, coefficients, normal) : denseVelocities(states, g, step, normal));
+        if (step.kT > 0)
+            driftVelocity = mobilityDifference(states, randomDirections(normal), step, coefficients);
+    }
     for (int b = 0; b < model.getNumBodies(); b++) {
         const BodyType& type = model.getType(model.getBodyType(b));
         Vector6 velocity = activeToLab(states[b], type, u.segment(firstCoordinate[b], type.getNumDegreesOfFreedom()))+driftVelocity[b];
