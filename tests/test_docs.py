@@ -11,7 +11,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 PAGES = [ROOT/'README.md', *sorted((ROOT/'docs').glob('*.md'))]
 # Each study page and the results files its numbers are read from.
 RESULTS = {
-    'README.md': ['examples/results/ssd_scene/table.md'],
+    'README.md': ['examples/results/ssd_scene/table.md', 'benchmarks/hydrodynamics/results/brownian_vs_rigid_multiblobs_wall.md'],
     'docs/banana.md': ['examples/results/banana_scene/*.md', 'examples/results/banana_scene/history_medium_3_replicas/*.md',
                        'benchmarks/platforms/results/banana_solvent*.csv'],
     'docs/water.md': ['examples/results/ssd_scene/table.md', 'examples/results/ssd_properties/table.md'],
