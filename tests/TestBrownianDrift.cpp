@@ -10,17 +10,20 @@
  * They agree to 2e-9 to 9e-9 at tolerance 1e-10 (bound 1e-6) and to 3e-4 to 3e-3 at 1e-3 (bound
  * 1e-2). Leaving out any one of the traction form's five differences ((dA) U, (dA^T) w, (dK'^T)
  * lambda, (dM) lambda, (dK') U) makes them disagree by 26% to 204% of the drift (checked by hand,
- * each direction failing).
+ * each direction failing). And a solve that fails names RigidBrownianIntegrator, the only user of the
+ * bodies' mobility (it named RigidLangevinIntegrator).
  */
 #include "ReferenceTests.h"
 #include "internal/BlobMobility.h"
 #include "internal/BrownianBodyStep.h"
 #include "internal/HydrodynamicInteractions.h"
 #include "internal/RigidBodyModel.h"
+#include "openmm/OpenMMException.h"
 #include <gtest/gtest.h>
 #include <cmath>
 #include <memory>
 #include <random>
+#include <string>
 
 using namespace OpenMM;
 using namespace RigidLangevinPlugin;
@@ -96,5 +99,22 @@ TEST(BrownianDrift, MatrixFreeTractionFormIsTheDenseDerivativeForEachDirection) 
         const vector<Vector6> loose = step.drift(scene.states, w, parameters, {true, 1e-3, 200, false}, noCoefficients, mobility);
         EXPECT_LT(relativeDifference(tight, dense), 1e-6) << "direction " << seed;
         EXPECT_LT(relativeDifference(loose, dense), 1e-2) << "direction " << seed;
+    }
+}
+
+TEST(BrownianDrift, AFailedSolveNamesTheIntegratorAndTheSolve) {
+    // The bodies' mobility serves only RigidBrownianIntegrator: a GMRES solve stopped after one
+    // iteration says so, not RigidLangevinIntegrator.
+    BodiesAboveWall scene;
+    BrownianBodyStep step(*scene.model, scene.interactions.get());
+    HostBlobMobility mobility;
+    mobility.setWall(0.0);
+    const CoupledStepParameters parameters = {0.002, 0.9, 2.5, NULL};
+    try {
+        step.drift(scene.states, randomDirections(3, 1), parameters, {true, 1e-10, 1, false}, vector<TypeStepCoefficients>(), mobility);
+        FAIL() << "a solve given one iteration converged";
+    }
+    catch (const OpenMMException& e) {
+        EXPECT_NE(std::string(e.what()).find("RigidBrownianIntegrator: hydrodynamic interactions: GMRES for the bodies' mobility"), std::string::npos) << e.what();
     }
 }

@@ -32,7 +32,8 @@ Eigen::VectorXd RigidLangevinPlugin::turnBlobs(const Eigen::VectorXd& v, const d
     return out;
 }
 
-int RigidLangevinPlugin::checkHydrodynamicSolve(const std::string& solve, const KrylovSolvers::Result& result, int numBodies, int numBlobs) {
+int RigidLangevinPlugin::checkHydrodynamicSolve(const std::string& solve, const KrylovSolvers::Result& result, int numBodies, int numBlobs,
+                                                const std::string& integrator) {
     if (result.outcome == KrylovSolvers::Converged)
         return result.iterations;
     std::string advice;
@@ -47,7 +48,7 @@ int RigidLangevinPlugin::checkHydrodynamicSolve(const std::string& solve, const 
         advice = "The blobs' mobility, and so this operator, is positive definite for every configuration of distinct blobs: here it is singular to "
                  "rounding (blobs that nearly coincide: merge or move them) or its products are wrong; the dense solver "
                  "(RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER=dense) factorises it exactly";
-    throw OpenMMException(Caller+": "+solve+" "+KrylovSolvers::explain(result)+", with "+std::to_string(numBodies)+" bodies of "+std::to_string(numBlobs)+
+    throw OpenMMException(integrator+": hydrodynamic interactions: "+solve+" "+KrylovSolvers::explain(result)+", with "+std::to_string(numBodies)+" bodies of "+std::to_string(numBlobs)+
                           " blobs. "+advice);
 }
 

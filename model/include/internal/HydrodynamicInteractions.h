@@ -158,9 +158,10 @@ OPENMM_EXPORT_RIGIDLANGEVIN Eigen::VectorXd turnBlobs(const Eigen::VectorXd& v, 
 
 /**
  * The iterations a Krylov solve of the coupled bodies took if it converged; otherwise throw an
- * OpenMMException naming the solve, why it failed (KrylovSolvers::explain) and what to do.
+ * OpenMMException naming the integrator, the solve, why it failed (KrylovSolvers::explain) and what to do.
  */
-OPENMM_EXPORT_RIGIDLANGEVIN int checkHydrodynamicSolve(const std::string& solve, const KrylovSolvers::Result& result, int numBodies, int numBlobs);
+OPENMM_EXPORT_RIGIDLANGEVIN int checkHydrodynamicSolve(const std::string& solve, const KrylovSolvers::Result& result, int numBodies, int numBlobs,
+                                                       const std::string& integrator = "RigidLangevinIntegrator");
 
 /**
  * The friction step of bodies coupled through the solvent: the midpoint (Crank-Nicolson) rule for
