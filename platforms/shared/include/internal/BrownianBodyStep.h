@@ -94,7 +94,7 @@ private:
     /** The drift as a central difference of N (dense, or each body's own). */
     std::vector<Vector6> mobilityDifference(const std::vector<BodyState>& states, const std::vector<Vector6>& w, const CoupledStepParameters& step,
                                             const std::vector<TypeStepCoefficients>& coefficients);
-    /** The matrix-free drift's terms (one solve at the states, four products at the displaced ones). */
+    /** The matrix-free drift's terms (one solve at the states, then two products with M and K', K'^T, A at the displaced ones). */
     DriftTerms tractionTerms(const std::vector<BodyState>& states, const std::vector<Vector6>& w, const CoupledStepParameters& step,
                              const CoupledSolve& solve, BlobMobility& mobility);
     /** N(q) g for lab generalised vectors g (6 per body) at states q, as lab vectors (dense, or each body's own). */
