@@ -56,11 +56,10 @@ void moveBody(BodyState& s, const BodyType& type, const Vec3& translation, const
 } // namespace
 
 BrownianBodyStep::BrownianBodyStep(const RigidBodyModel& model, const HydrodynamicInteractions* interactions) :
-        model(model), interactions(interactions), driftLength(1.0) {
-    int coordinates = 0;
+        model(model), interactions(interactions), numCoordinates(0), driftLength(1.0) {
     for (int b = 0; b < model.getNumBodies(); b++) {
-        firstCoordinate.push_back(coordinates);
-        coordinates += model.getType(model.getBodyType(b)).getNumDegreesOfFreedom();
+        firstCoordinate.push_back(numCoordinates);
+        numCoordinates += model.getType(model.getBodyType(b)).getNumDegreesOfFreedom();
     }
     if (interactions != NULL) {
         bodyMobility.reset(new BodyMobility(*interactions));
@@ -81,7 +80,7 @@ BrownianBodyStep::BrownianBodyStep(const RigidBodyModel& model, const Hydrodynam
 }
 
 VectorXd BrownianBodyStep::generalizedForces(const vector<BodyState>& states, const vector<Vec3>& forces) const {
-    VectorXd g(firstCoordinate.empty() ? 0 : firstCoordinate.back()+model.getType(model.getBodyType(model.getNumBodies()-1)).getNumDegreesOfFreedom());
+    VectorXd g(numCoordinates);
     for (int b = 0; b < model.getNumBodies(); b++) {
         const BodyType& type = model.getType(model.getBodyType(b));
         Vec3 force, torque;
@@ -155,6 +154,24 @@ VectorXd BrownianBodyStep::krylovVelocities(const vector<BodyState>& states, Vec
     return u/step.viscosity;
 }
 
+VectorXd BrownianBodyStep::toActive(const vector<BodyState>& states, const vector<Vector6>& lab) const {
+    VectorXd active(numCoordinates);
+    for (int b = 0; b < model.getNumBodies(); b++) {
+        const BodyType& type = model.getType(model.getBodyType(b));
+        active.segment(firstCoordinate[b], type.getNumDegreesOfFreedom()) = labToActive(states[b], type, lab[b]);
+    }
+    return active;
+}
+
+vector<BrownianBodyStep::Vector6> BrownianBodyStep::toLab(const vector<BodyState>& states, const VectorXd& active) const {
+    vector<Vector6> lab(model.getNumBodies());
+    for (int b = 0; b < model.getNumBodies(); b++) {
+        const BodyType& type = model.getType(model.getBodyType(b));
+        lab[b] = activeToLab(states[b], type, active.segment(firstCoordinate[b], type.getNumDegreesOfFreedom()));
+    }
+    return lab;
+}
+
 vector<BrownianBodyStep::Vector6> BrownianBodyStep::randomDirections(const std::function<double ()>& normal) const {
     vector<Vector6> w(model.getNumBodies());
     for (Vector6& v : w)
@@ -193,18 +210,10 @@ vector<BrownianBodyStep::Vector6> BrownianBodyStep::labMobility(const vector<Bod
         }
         return out;
     }
-    VectorXd active(interactions->getNumCoordinates()), u;
-    for (int b = 0; b < numBodies; b++) {
-        const BodyType& type = model.getType(model.getBodyType(b));
-        active.segment(firstCoordinate[b], type.getNumDegreesOfFreedom()) = labToActive(states[b], type, g[b]);
-    }
+    VectorXd u;
     bodyMobility->factorize(states, step.box);
-    bodyMobility->denseMultiply(active, u);
-    for (int b = 0; b < numBodies; b++) {
-        const BodyType& type = model.getType(model.getBodyType(b));
-        out[b] = activeToLab(states[b], type, u.segment(firstCoordinate[b], type.getNumDegreesOfFreedom()))/step.viscosity;
-    }
-    return out;
+    bodyMobility->denseMultiply(toActive(states, g), u);
+    return toLab(states, u/step.viscosity);
 }
 
 vector<BrownianBodyStep::Vector6> BrownianBodyStep::mobilityDifference(const vector<BodyState>& states, const vector<Vector6>& w,
@@ -226,11 +235,8 @@ BrownianBodyStep::DriftTerms BrownianBodyStep::tractionTerms(const vector<BodySt
     // both the central difference's error (delta^2) and rounding's (3e-7/delta) near the tolerance.
     const double delta = std::min(1e-2, std::max(1e-4, std::sqrt(solve.tolerance)));
     const vector<Vector6> f = directionForces(w);
-    VectorXd g(interactions->getNumCoordinates()), u, lambda;
-    for (int b = 0; b < model.getNumBodies(); b++) {
-        const BodyType& type = model.getType(model.getBodyType(b));
-        g.segment(firstCoordinate[b], type.getNumDegreesOfFreedom()) = labToActive(states[b], type, f[b]);
-    }
+    const VectorXd g = toActive(states, f);
+    VectorXd u, lambda;
     lastIterations.noiseSolve = bodyMobility->solve(states, g, VectorXd(), u, solve.tolerance, solve.maxIterations, mobility, step.box, &lambda);
     const vector<BodyState> plus = displaced(states, w, 1, delta), minus = displaced(states, w, -1, delta);
     DriftTerms terms;
@@ -261,10 +267,9 @@ vector<BrownianBodyStep::Vector6> BrownianBodyStep::drift(const vector<BodyState
     DriftTerms terms = tractionTerms(states, w, step, solve, mobility);
     VectorXd u;
     bodyMobility->solve(states, terms.force, terms.slip, u, solve.tolerance, solve.maxIterations, mobility, step.box);
-    for (int b = 0; b < model.getNumBodies(); b++) {
-        const BodyType& type = model.getType(model.getBodyType(b));
-        terms.velocity[b] += activeToLab(states[b], type, u.segment(firstCoordinate[b], type.getNumDegreesOfFreedom()))/step.viscosity;
-    }
+    const vector<Vector6> solved = toLab(states, u/step.viscosity);
+    for (int b = 0; b < model.getNumBodies(); b++)
+        terms.velocity[b] += solved[b];
     return terms.velocity;
 }
 

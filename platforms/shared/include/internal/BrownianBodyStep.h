@@ -85,6 +85,9 @@ private:
     Eigen::VectorXd krylovVelocities(const std::vector<BodyState>& states, Eigen::VectorXd g, const CoupledStepParameters& step,
                                      const CoupledSolve& solve, const std::function<double ()>& normal, BlobMobility& mobility,
                                      std::vector<Vector6>& driftVelocity);
+    /** Every body's lab 6-vector in its active body-frame coordinates, body after body, and back. */
+    Eigen::VectorXd toActive(const std::vector<BodyState>& states, const std::vector<Vector6>& lab) const;
+    std::vector<Vector6> toLab(const std::vector<BodyState>& states, const Eigen::VectorXd& active) const;
     /** Six normals per body. */
     std::vector<Vector6> randomDirections(const std::function<double ()>& normal) const;
     /** D^-1 w: the lab generalised forces whose mobility the difference takes. */
@@ -104,6 +107,7 @@ private:
     const HydrodynamicInteractions* interactions;
     std::unique_ptr<BodyMobility> bodyMobility;
     std::vector<int> firstCoordinate;
+    int numCoordinates;  ///< every body's active coordinates together
     double driftLength;  ///< l of the random finite difference (nm)
     std::vector<double> driftAngle;  ///< per type: the turn (radians) that moves its farthest blob by l, at most 1
     HydrodynamicInteractions::KrylovIterations lastIterations = {0, 0, 0};
