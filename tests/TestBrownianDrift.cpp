@@ -47,6 +47,7 @@ struct BodiesAboveWall {
             {Vec3(0.1, 0.3, 0.09), Vec3(0.2, 0.33, 0.14), Vec3(0.3, 0.36, 0.19)}};
         vector<Vec3> positions;
         description.hydrodynamicInteractions = true;
+        description.integratorName = "RigidBrownianIntegrator";  // as the kernels describe a RigidBrownianIntegrator's bodies
         for (const vector<Vec3>& blobs : bodies) {
             RigidBodyDescription::Body body;
             for (const Vec3& p : blobs) {

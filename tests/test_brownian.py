@@ -444,6 +444,33 @@ def test_a_step_that_crosses_the_wall_says_so():
         integrator.step(5)
 
 
+def test_every_refusal_names_the_brownian_integrator():
+    # The bodies' model, their blobs, the checkpoint reader and the step's checks serve both
+    # integrators; a Brownian user's messages must name RigidBrownianIntegrator (they named
+    # RigidLangevinIntegrator until 2026-12-02).
+    def refused(action, fragment):
+        with pytest.raises(mm.OpenMMException) as error:
+            action()
+        assert str(error.value).startswith('RigidBrownianIntegrator: ') and fragment in str(error.value), str(error.value)
+
+    system, integrator, positions = sphere_layer(2, 1.0, 2.0, 10.0, 1.0, 0.001)
+    system.setParticleMass(1, 0.0)
+    refused(lambda: mm.Context(system, integrator, platform('Reference')), 'rigid body 1 has no particle with mass')  # the model
+    system, integrator, positions = sphere_layer(2, 1.0, 2.0, 10.0, 1.0, 0.001)
+    context = mm.Context(system, integrator, platform('Reference'))
+    positions[1] = mm.Vec3(10, 0, -0.5)
+    context.setPositions(positions)
+    refused(lambda: integrator.step(1), 'hydrodynamic interactions')  # the blobs
+    context.setPositions(sphere_layer(2, 1.0, 2.0, 10.0, 1.0, 0.001)[2])
+    integrator.step(1)
+    checkpoint = bytearray(context.createCheckpoint())
+    checkpoint[-20] ^= 0xFF
+    refused(lambda: context.loadCheckpoint(bytes(checkpoint)), 'checkpoint')  # the checkpoint reader
+    system, integrator, positions = sphere_layer(2, 1.0, 2.0, 10.0, 1.0, 0.001)
+    system.addForce(mm.CMMotionRemover())
+    refused(lambda: mm.Context(system, integrator, platform('Reference')), 'CMMotionRemover')  # the step's checks
+
+
 def test_viscosity_must_be_positive():
     with pytest.raises(mm.OpenMMException, match='set a positive viscosity'):
         rl.RigidBrownianIntegrator(300, 0.0, 0.001)

@@ -9,13 +9,6 @@ using OpenMM::OpenMMException;
 using OpenMM::Vec3;
 using std::vector;
 
-namespace {
-
-/** Only the overdamped integrator (BrownianBodyStep) uses the bodies' mobility: its messages begin so. */
-const std::string Integrator = "RigidBrownianIntegrator";
-
-} // namespace
-
 BodyMobility::BodyMobility(const HydrodynamicInteractions& interactions) : interactions(interactions), model(interactions.getModel()), numBlobs(0) {
     for (int t = 0; t < model.getNumTypes(); t++) {
         const Eigen::MatrixXd& k = interactions.getTypeBlobVelocities(t);
@@ -30,7 +23,7 @@ BodyMobility::BodyMobility(const HydrodynamicInteractions& interactions) : inter
 void BodyMobility::factorize(const vector<BodyState>& states, const Vec3* box) {
     dense.compute(interactions.computeResistance(states, box));
     if (dense.info() != Eigen::Success)
-        throw OpenMMException(Integrator+": hydrodynamic interactions: the bodies' coupled resistance is not positive definite");
+        throw OpenMMException(hydrodynamicsCaller(model.getIntegratorName())+": the bodies' coupled resistance is not positive definite");
 }
 
 void BodyMobility::denseMultiply(const VectorXd& g, VectorXd& out) const {
@@ -136,7 +129,7 @@ int BodyMobility::solve(const vector<BodyState>& states, const VectorXd& g, cons
     };
     int iterations = checkHydrodynamicSolve("GMRES for the bodies' mobility (the saddle-point problem of their blobs)",
                                             KrylovSolvers::gmres(product, preconditioner, d.cwiseProduct(rhs)/mu0, x, tolerance, maxIterations),
-                                            model.getNumBodies(), numBlobs, Integrator);
+                                            model.getNumBodies(), numBlobs, model.getIntegratorName());
     out = d.tail(coordinates).cwiseProduct(x.tail(coordinates));
     if (blobForces != NULL)
         *blobForces = d.head(blobs).cwiseProduct(x.head(blobs));
@@ -156,7 +149,7 @@ int BodyMobility::blobNoise(const vector<BodyState>& states, const VectorXd& w, 
     VectorXd root;
     int iterations = checkHydrodynamicSolve("the Lanczos square root of the blobs' mobility for the noise (preconditioned by every body's own blocks)",
                                             KrylovSolvers::lanczosPower(interactions.preconditionedMobility(states, mobility), w, root, 0.5, tolerance,
-                                                                        maxIterations), model.getNumBodies(), numBlobs, Integrator);
+                                                                        maxIterations), model.getNumBodies(), numBlobs, model.getIntegratorName());
     interactions.applySelfFactor(states, HydrodynamicInteractions::Lower, root, slip);
     return iterations;
 }

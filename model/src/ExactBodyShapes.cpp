@@ -47,7 +47,7 @@ VirtualSite* renumbered(const VirtualSite& site, const std::map<int, int>& index
 
 } // namespace
 
-ExactBodyShapes::ExactBodyShapes(const System& system, const BodyParticleLists& bodyParticles) {
+ExactBodyShapes::ExactBodyShapes(const System& system, const BodyParticleLists& bodyParticles, const std::string& integrator) {
     vector<int> particleBody(system.getNumParticles(), -1);
     for (int b = 0; b < (int) bodyParticles.size(); b++)
         for (int p : bodyParticles[b])
@@ -86,7 +86,7 @@ ExactBodyShapes::ExactBodyShapes(const System& system, const BodyParticleLists& 
         if (system.isVirtualSite(p)) {
             VirtualSite* site = renumbered(system.getVirtualSite(p), index);
             if (site == NULL)
-                throw OpenMMException("RigidLangevinIntegrator: particle "+std::to_string(p)+" of rigid body "+std::to_string(particleBody[p])+
+                throw OpenMMException(integrator+": particle "+std::to_string(p)+" of rigid body "+std::to_string(particleBody[p])+
                         " is a SymmetrySite, which does not move rigidly with its parent; take it out of the body");
             shapes->setVirtualSite(index[p], site);
         }

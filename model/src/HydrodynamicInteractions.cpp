@@ -14,8 +14,6 @@ using std::vector;
 
 namespace {
 
-/** How the integrator's messages about the coupled bodies begin. */
-const std::string Caller = "RigidLangevinIntegrator: hydrodynamic interactions";
 /** The tightest relative residual the friction's conjugate gradients are asked for when the
  *  tolerance is tightened for strong friction (1e-12 is the least a user may ask). */
 const double FrictionToleranceFloor = 1e-11;
@@ -30,6 +28,10 @@ Eigen::VectorXd RigidLangevinPlugin::turnBlobs(const Eigen::VectorXd& v, const d
         out.segment<3>(3*k) << w[0], w[1], w[2];
     }
     return out;
+}
+
+std::string RigidLangevinPlugin::hydrodynamicsCaller(const std::string& integrator) {
+    return integrator+": hydrodynamic interactions";
 }
 
 int RigidLangevinPlugin::checkHydrodynamicSolve(const std::string& solve, const KrylovSolvers::Result& result, int numBodies, int numBlobs,
@@ -48,7 +50,7 @@ int RigidLangevinPlugin::checkHydrodynamicSolve(const std::string& solve, const 
         advice = "The blobs' mobility, and so this operator, is positive definite for every configuration of distinct blobs: here it is singular to "
                  "rounding (blobs that nearly coincide: merge or move them) or its products are wrong; the dense solver "
                  "(RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER=dense) factorises it exactly";
-    throw OpenMMException(integrator+": hydrodynamic interactions: "+solve+" "+KrylovSolvers::explain(result)+", with "+std::to_string(numBodies)+" bodies of "+std::to_string(numBlobs)+
+    throw OpenMMException(hydrodynamicsCaller(integrator)+": "+solve+" "+KrylovSolvers::explain(result)+", with "+std::to_string(numBodies)+" bodies of "+std::to_string(numBlobs)+
                           " blobs. "+advice);
 }
 
@@ -58,7 +60,7 @@ HydrodynamicInteractions::HydrodynamicInteractions(const RigidBodyModel& model, 
         const BodyType& type = model.getType(t);
         TypeBlobs blobs;
         model.getTypeBlobs(t, blobs.coords, blobs.radii);
-        std::string caller = "RigidLangevinIntegrator: hydrodynamic interactions of "+model.getBodyName(model.getFirstBodyOfType(t));
+        std::string caller = hydrodynamicsCaller(model.getIntegratorName())+" of "+model.getBodyName(model.getFirstBodyOfType(t));
         // The blobs' resistance alone and the body's own friction, in its frame about its centre
         // of mass, over the motions it makes.
         Eigen::MatrixXd alone = CoupledResistanceMath::resistance(caller, blobs.coords, blobs.radii, vector<int>(blobs.coords.size(), 0), {Vec3()}, NULL,
@@ -130,7 +132,7 @@ void HydrodynamicInteractions::validateBlobs(const vector<Vec3>& positions, cons
     vector<int> owner;
     for (int b = 0; b < model.getNumBodies(); b++)
         owner.insert(owner.end(), types[model.getBodyType(b)].coords.size(), b);
-    CoupledResistanceMath::validateBlobs(Caller, positions, radii, owner, boxVectors, bodyNames(), wallZ);
+    CoupledResistanceMath::validateBlobs(hydrodynamicsCaller(model.getIntegratorName()), positions, radii, owner, boxVectors, bodyNames(), wallZ);
 }
 
 int HydrodynamicInteractions::getNumBlobs() const {
@@ -196,7 +198,7 @@ Eigen::MatrixXd HydrodynamicInteractions::computeResistance(const vector<BodySta
         owner.insert(owner.end(), types[model.getBodyType(b)].coords.size(), b);
         origins.push_back(states[b].position);
     }
-    Eigen::MatrixXd r = CoupledResistanceMath::resistance(Caller, positions, radii, owner, origins, boxVectors, bodyNames(), wallZ);
+    Eigen::MatrixXd r = CoupledResistanceMath::resistance(hydrodynamicsCaller(model.getIntegratorName()), positions, radii, owner, origins, boxVectors, bodyNames(), wallZ);
     // Each body's rows and columns into its frame (Q, lab to body, on its force and its torque),
     // then calibrated: T_a R_ab T_b.
     for (int b = 0; b < numBodies; b++) {
@@ -339,7 +341,8 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
         KrylovSolvers::Operator preconditioned = preconditionedMobility(states, blobMobility);
         VectorXd root, solved;
         iterations.noise = checkHydrodynamicSolve("the Lanczos inverse square root of the blobs' mobility for the noise (preconditioned by every body's own blocks)",
-                                                  KrylovSolvers::lanczosPower(preconditioned, normals, root, -0.5, tolerance, maxIterations), numBodies, numBlobs);
+                                                  KrylovSolvers::lanczosPower(preconditioned, normals, root, -0.5, tolerance, maxIterations), numBodies, numBlobs,
+                                                  model.getIntegratorName());
         applySelfFactor(states, InverseLowerTranspose, root, solved);
         VectorXd xi;
         applyKT(solved, xi);
@@ -360,7 +363,7 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
     KrylovSolvers::scaledStart(schur, lastFrictionSolution, rhs, y, startProduct);
     const std::string frictionSolve = "the conjugate gradients for the friction (on M/c + K M_b^-1 K^T, M the blobs' mobility)";
     iterations.friction = checkHydrodynamicSolve(frictionSolve, KrylovSolvers::conjugateGradient(schur, blockSolver, rhs, y, tolerance, maxIterations, &startProduct),
-                                                 numBodies, numBlobs);
+                                                 numBodies, numBlobs, model.getIntegratorName());
     VectorXd back;
     applyKT(y, back);
     // The step's (M_b + c R)^-1 z = M_b^-1 (z - K^T y) is, where the friction is strong, much smaller
@@ -372,7 +375,7 @@ HydrodynamicInteractions::KrylovIterations HydrodynamicInteractions::krylovFrict
         // maxIterations bounds the friction's iterations together, and a failure reports them together.
         KrylovSolvers::Result more = KrylovSolvers::conjugateGradient(schur, blockSolver, rhs, y, tighter, maxIterations-iterations.friction);
         more.iterations += iterations.friction;
-        iterations.friction = checkHydrodynamicSolve(frictionSolve, more, numBodies, numBlobs);
+        iterations.friction = checkHydrodynamicSolve(frictionSolve, more, numBodies, numBlobs, model.getIntegratorName());
         applyKT(y, back);
     }
     if (warmStarts)

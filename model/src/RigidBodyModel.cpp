@@ -76,7 +76,7 @@ vector<int> BodyType::getActiveCoordinates() const {
     return active;
 }
 
-RigidBodyModel::RigidBodyModel(const System& system, const RigidBodyDescription& description) {
+RigidBodyModel::RigidBodyModel(const System& system, const RigidBodyDescription& description) : integratorName(description.integratorName) {
     int numParticles = system.getNumParticles();
     numUserBodies = description.bodies.size();
     particleBody.assign(numParticles, -1);
@@ -90,18 +90,18 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidBodyDescription&
         double mass = 0;
         for (int p : particles) {
             if (p < 0 || p >= numParticles)
-                throw OpenMMException("RigidLangevinIntegrator: rigid body "+std::to_string(b)+" contains particle "+std::to_string(p)+
+                throw OpenMMException(integratorName+": rigid body "+std::to_string(b)+" contains particle "+std::to_string(p)+
                         ", but the System has only "+std::to_string(numParticles)+" particles");
             if (particleBody[p] == b)
-                throw OpenMMException("RigidLangevinIntegrator: rigid body "+std::to_string(b)+" lists particle "+std::to_string(p)+" twice");
+                throw OpenMMException(integratorName+": rigid body "+std::to_string(b)+" lists particle "+std::to_string(p)+" twice");
             if (particleBody[p] != -1)
-                throw OpenMMException("RigidLangevinIntegrator: particle "+std::to_string(p)+" is in rigid body "+std::to_string(particleBody[p])+
+                throw OpenMMException(integratorName+": particle "+std::to_string(p)+" is in rigid body "+std::to_string(particleBody[p])+
                         " and in rigid body "+std::to_string(b)+"; a particle can belong to one body only");
             particleBody[p] = b;
             mass += particleMass[p];
         }
         if (!(mass > 0))
-            throw OpenMMException("RigidLangevinIntegrator: rigid body "+std::to_string(b)+" has no particle with mass; a body needs mass to move (massless sites must ride on a body that has mass)");
+            throw OpenMMException(integratorName+": rigid body "+std::to_string(b)+" has no particle with mass; a body needs mass to move (massless sites must ride on a body that has mass)");
         bodyParticles.add(particles);
     }
 
@@ -122,12 +122,12 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidBodyDescription&
         const VirtualSite& site = system.getVirtualSite(p);
         for (int i = 0; i < site.getNumParticles(); i++)
             if (particleBody[site.getParticle(i)] != b)
-                throw OpenMMException("RigidLangevinIntegrator: particle "+std::to_string(p)+" in rigid body "+std::to_string(b)+" is a virtual site whose parent particle "+
+                throw OpenMMException(integratorName+": particle "+std::to_string(p)+" in rigid body "+std::to_string(b)+" is a virtual site whose parent particle "+
                         std::to_string(site.getParticle(i))+" is "+(particleBody[site.getParticle(i)] == -1 ? string("in no rigid body") :
                         "in rigid body "+std::to_string(particleBody[site.getParticle(i)]))+". A body can carry a virtual site only together with all its parents: "
                         "put them in the same body, or leave the site out of every body");
     }
-    exactShapes.reset(new ExactBodyShapes(system, bodyParticles));
+    exactShapes.reset(new ExactBodyShapes(system, bodyParticles, integratorName));
 
     // Free particles with mass move as single-particle bodies; massless ones stay where they are.
     for (int p = 0; p < numParticles; p++)
@@ -142,10 +142,10 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidBodyDescription&
         const Force& force = system.getForce(i);
         if (dynamic_cast<const MonteCarloBarostat*>(&force) != NULL || dynamic_cast<const MonteCarloAnisotropicBarostat*>(&force) != NULL ||
                 dynamic_cast<const MonteCarloMembraneBarostat*>(&force) != NULL || dynamic_cast<const MonteCarloFlexibleBarostat*>(&force) != NULL)
-            throw OpenMMException("RigidLangevinIntegrator: the System has a Monte Carlo barostat (force "+std::to_string(i)+"); barostats move particles "
+            throw OpenMMException(integratorName+": the System has a Monte Carlo barostat (force "+std::to_string(i)+"); barostats move particles "
                     "themselves, which rigid bodies cannot follow yet. Remove it and run at constant volume");
         if (dynamic_cast<const AndersenThermostat*>(&force) != NULL)
-            throw OpenMMException("RigidLangevinIntegrator: the System has an AndersenThermostat (force "+std::to_string(i)+"); the integrator is "
+            throw OpenMMException(integratorName+": the System has an AndersenThermostat (force "+std::to_string(i)+"); the integrator is "
                     "its own thermostat. Remove the AndersenThermostat");
     }
 
@@ -157,7 +157,7 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidBodyDescription&
         int b1 = particleBody[p1], b2 = particleBody[p2];
         if (b1 == b2 && b1 != -1 && b1 < numUserBodies)
             continue;
-        throw OpenMMException("RigidLangevinIntegrator: constraint "+std::to_string(i)+" between particles "+std::to_string(p1)+" and "+std::to_string(p2)+
+        throw OpenMMException(integratorName+": constraint "+std::to_string(i)+" between particles "+std::to_string(p1)+" and "+std::to_string(p2)+
                 " does not lie inside one rigid body; rigid bodies replace constraints, so put both particles in the same body or remove the constraint");
     }
 
@@ -197,7 +197,7 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidBodyDescription&
     }
     for (auto& r : description.particleRadii) {
         if (r.first >= numParticles)
-            throw OpenMMException("RigidLangevinIntegrator: a radius was set for particle "+std::to_string(r.first)+", but the System has only "+std::to_string(numParticles)+" particles");
+            throw OpenMMException(integratorName+": a radius was set for particle "+std::to_string(r.first)+", but the System has only "+std::to_string(numParticles)+" particles");
         particleRadius[r.first] = r.second;
         hasRadius[r.first] = true;
     }
@@ -206,7 +206,7 @@ RigidBodyModel::RigidBodyModel(const System& system, const RigidBodyDescription&
             continue;
         for (int p : bodyParticles[b])
             if (particleMass[p] != 0 && !hasRadius[p])
-                throw OpenMMException("RigidLangevinIntegrator: particle "+std::to_string(p)+" ("+bodyName(b, numUserBodies, bodyParticles[b])+
+                throw OpenMMException(integratorName+": particle "+std::to_string(p)+" ("+bodyName(b, numUserBodies, bodyParticles[b])+
                         ") has no hydrodynamic radius: it has no Lennard-Jones sigma with nonzero epsilon in a NonbondedForce. Call setParticleRadius("+
                         std::to_string(p)+", radius), or give the body an explicit tensor with setBodyResistance()");
     }
@@ -232,7 +232,7 @@ vector<Vec3> RigidBodyModel::unwrappedOffsets(int body, const vector<Vec3>& posi
             d -= box[0]*std::round(d[0]/box[0][0]);
             double dist = std::sqrt(d.dot(d));
             if (dist >= halfWidth*(1-1e-12))
-                throw OpenMMException("RigidLangevinIntegrator: "+bodyName(body, numUserBodies, particles)+" is wider than half the periodic box: particle "+
+                throw OpenMMException(integratorName+": "+bodyName(body, numUserBodies, particles)+" is wider than half the periodic box: particle "+
                         std::to_string(particles[i])+" is "+str(dist)+" nm from particle "+std::to_string(particles[0])+" but half the box is "+str(halfWidth)+
                         " nm. Use a larger box");
         }
@@ -276,7 +276,7 @@ Eigen::Matrix3d RigidBodyModel::fitGivenReference(int body, const vector<Vec3>& 
     int worst;
     double deviation = fitRotation(referenceOffsets, offsets, toLab, worst);
     if (deviation > GeometryTolerance)
-        throw OpenMMException("RigidLangevinIntegrator: the reference positions given with "+given+" of rigid body "+std::to_string(body)+
+        throw OpenMMException(integratorName+": the reference positions given with "+given+" of rigid body "+std::to_string(body)+
                 " do not match its shape: particle "+std::to_string(particles[worst])+" is "+str(deviation)+" nm from its place after the best rigid "
                 "motion (tolerance "+str(GeometryTolerance)+" nm). Pass the positions of the body's particles "+placedFor+", in the order of addRigidBody()");
     return toLab;
@@ -320,14 +320,14 @@ void RigidBodyModel::getTypeBlobs(int type, vector<Vec3>& coords, vector<double>
                 radii.push_back(t.radii[i]);
             }
         if (coords.empty())
-            throw OpenMMException("RigidLangevinIntegrator: "+name+" has no hydrodynamic blobs for hydrodynamic interactions: none of its particles has a "
+            throw OpenMMException(integratorName+": "+name+" has no hydrodynamic blobs for hydrodynamic interactions: none of its particles has a "
                     "radius. Give it blobs with setBodyBlobs(), or radii with setParticleRadius()");
     }
     // A body that does not turn about some axis cannot carry blobs that would need it to.
     for (const Vec3& b : coords) {
         double off = (t.numRotations == 0 ? std::sqrt(b.dot(b)) : t.numRotations == 2 ? std::sqrt(b[1]*b[1]+b[2]*b[2]) : 0.0);
         if (off > GeometryTolerance)
-            throw OpenMMException("RigidLangevinIntegrator: "+name+" has its mass "+(t.numRotations == 0 ? "at one point" : "on one line")+
+            throw OpenMMException(integratorName+": "+name+" has its mass "+(t.numRotations == 0 ? "at one point" : "on one line")+
                     ", so it cannot turn "+(t.numRotations == 0 ? "at all" : "about its axis")+", but one of its hydrodynamic blobs is "+str(off)+
                     " nm off that "+(t.numRotations == 0 ? "point" : "line")+". Place its blobs on it, or give the body mass off it so that it rotates");
     }
@@ -356,13 +356,13 @@ Matrix6 RigidBodyModel::bodyFrameResistance(int body, const vector<Vec3>& offset
             radii.push_back(particleRadius[particles[i]]);
         }
     if (beads.empty())
-        throw OpenMMException("RigidLangevinIntegrator: "+bodyName(body, numUserBodies, particles)+" has no particle with a hydrodynamic radius; "
+        throw OpenMMException(integratorName+": "+bodyName(body, numUserBodies, particles)+" has no particle with a hydrodynamic radius; "
                 "set radii with setParticleRadius() or give it an explicit tensor");
     ResistanceTensor model = ResistanceTensor::beads(beads, radii, ResistanceTensor::unionVolume(beads, radii));
     return Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor> >(model.getMatrix(Vec3()).data());
 }
 
-void RigidBodyModel::classifyFriction(BodyType& t, const string& name) {
+void RigidBodyModel::classifyFriction(BodyType& t, const string& name) const {
     vector<int> active = t.getActiveCoordinates();
     int dof = active.size();
     Eigen::MatrixXd xi(dof, dof);
@@ -371,7 +371,7 @@ void RigidBodyModel::classifyFriction(BodyType& t, const string& name) {
             xi(i, j) = t.resistance(active[i], active[j]);
     Eigen::LLT<Eigen::MatrixXd> llt(xi);
     if (llt.info() != Eigen::Success || !xi.allFinite())
-        throw OpenMMException("RigidLangevinIntegrator: the friction of "+name+" is not positive definite in the motions it can make; "
+        throw OpenMMException(integratorName+": the friction of "+name+" is not positive definite in the motions it can make; "
                 "its hydrodynamic beads do not resist every rotation. Set radii on more of its particles or give it an explicit tensor with setBodyResistance()");
     double maxDiagonal = xi.diagonal().cwiseAbs().maxCoeff();
     bool diagonal = true;
@@ -436,7 +436,7 @@ int RigidBodyModel::createType(int body, const vector<Vec3>& offsets, double rot
             if (!t.rotates(k)) {
                 double off = (t.numRotations == 0 ? b.norm() : std::sqrt(b[1]*b[1]+b[2]*b[2]));
                 if (off > GeometryTolerance)
-                    throw OpenMMException("RigidLangevinIntegrator: "+name+" has its mass "+(t.numRotations == 0 ? "at one point" : "on one line")+
+                    throw OpenMMException(integratorName+": "+name+" has its mass "+(t.numRotations == 0 ? "at one point" : "on one line")+
                             ", but massless particle "+std::to_string(particles[i])+" is "+str(off)+" nm off it, so the body cannot carry it. "
                             "Give that particle mass or move it onto the "+(t.numRotations == 0 ? "point" : "line"));
             }
@@ -522,7 +522,7 @@ void RigidBodyModel::checkBodiesWhole(const vector<Vec3>& positions, const Vec3*
             nearest -= box[0]*std::round(nearest[0]/box[0][0]);
             Vec3 shift = given-nearest;
             if (shift.dot(shift) > 1e-12)
-                throw OpenMMException("RigidLangevinIntegrator: "+bodyName(b, numUserBodies, particles)+" is longer than half the periodic box in the "
+                throw OpenMMException(integratorName+": "+bodyName(b, numUserBodies, particles)+" is longer than half the periodic box in the "
                         "positions first set on the Context: particles "+std::to_string(particles[0])+" and "+std::to_string(particles[i])+" are "+
                         str(std::sqrt(given.dot(given)))+" nm apart, but half the box is "+str(halfWidth)+" nm (their nearest images are "+
                         str(std::sqrt(nearest.dot(nearest)))+" nm apart, which would give the body another shape). Use a larger box; or, if the "
@@ -536,7 +536,7 @@ vector<BodyState> RigidBodyModel::fitStates(const vector<Vec3>& positions, const
     for (int b = 0; b < getNumBodies(); b++)
         for (int p : bodyParticles[b])
             if (!std::isfinite(positions[p][0]) || !std::isfinite(positions[p][1]) || !std::isfinite(positions[p][2]))
-                throw OpenMMException("RigidLangevinIntegrator: particle "+std::to_string(p)+" has a position that is not finite");
+                throw OpenMMException(integratorName+": particle "+std::to_string(p)+" has a position that is not finite");
     if (firstBuild && box != NULL)
         checkBodiesWhole(positions, box);
     vector<Vec3> exact;
@@ -566,7 +566,7 @@ vector<BodyState> RigidBodyModel::fitStates(const vector<Vec3>& positions, const
             double deviation;
             int worst;
             if (!matchType(bodyType[b], offsets, s.rotation, deviation, worst))
-                throw OpenMMException("RigidLangevinIntegrator: the positions deform "+bodyName(b, numUserBodies, particles)+": particle "+
+                throw OpenMMException(integratorName+": the positions deform "+bodyName(b, numUserBodies, particles)+": particle "+
                         std::to_string(particles[worst])+" is "+str(deviation)+" nm from its place in the rigid body (tolerance "+str(GeometryTolerance)+
                         " nm). Bodies keep the shape of the positions first set on the Context; to change shapes, call Context.reinitialize()");
         }
@@ -574,7 +574,7 @@ vector<BodyState> RigidBodyModel::fitStates(const vector<Vec3>& positions, const
         // Particles each within half a box of the first can still span more than half a box
         // together, and then which images belong together is ambiguous.
         if (box != NULL && t.diameter >= halfWidth*(1-1e-12))
-            throw OpenMMException("RigidLangevinIntegrator: "+bodyName(b, numUserBodies, particles)+" is wider than half the periodic box: two of its particles are "+
+            throw OpenMMException(integratorName+": "+bodyName(b, numUserBodies, particles)+" is wider than half the periodic box: two of its particles are "+
                     str(t.diameter)+" nm apart but half the box is "+str(halfWidth)+" nm. Use a larger box");
         if (t.numRotations == 0)
             fromMatrix3(Eigen::Matrix3d::Identity(), s.rotation);

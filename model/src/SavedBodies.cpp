@@ -34,11 +34,11 @@ void writeVector(std::ostream& stream, const vector<T>& values) {
 }
 
 template <class T>
-void readVector(std::istream& stream, vector<T>& values) {
+void readVector(std::istream& stream, vector<T>& values, const string& integrator) {
     int size;
     readValue(stream, size);
     if (!stream || size < 0 || size > (1<<28))
-        throw OpenMMException("RigidLangevinIntegrator: the checkpoint is corrupt");
+        throw OpenMMException(integrator+": the checkpoint is corrupt");
     values.resize(size);
     stream.read((char*) values.data(), size*sizeof(T));
 }
@@ -81,14 +81,14 @@ void RigidBodyModel::readTypes(std::istream& stream, SavedBodies& saved) const {
     int numTypes;
     readValue(stream, numTypes);
     if (!stream || numTypes < 0 || numTypes > getNumBodies())
-        throw OpenMMException("RigidLangevinIntegrator: the checkpoint is corrupt or was written for another System: it has "+std::to_string(numTypes)+
+        throw OpenMMException(integratorName+": the checkpoint is corrupt or was written for another System: it has "+std::to_string(numTypes)+
                 " body types for "+std::to_string(getNumBodies())+" bodies");
     saved.types.assign(numTypes, BodyType());
     for (BodyType& t : saved.types) {
-        readVector(stream, t.masses);
-        readVector(stream, t.radii);
-        readVector(stream, t.coords);
-        readVector(stream, t.isVirtualSite);
+        readVector(stream, t.masses, integratorName);
+        readVector(stream, t.radii, integratorName);
+        readVector(stream, t.coords, integratorName);
+        readVector(stream, t.isVirtualSite, integratorName);
         readValue(stream, t.mass);
         readValue(stream, t.inertia);
         readValue(stream, t.numRotations);
@@ -96,9 +96,9 @@ void RigidBodyModel::readTypes(std::istream& stream, SavedBodies& saved) const {
         readValue(stream, t.resistance);
         readValue(stream, t.frictionClass);
     }
-    readVector(stream, saved.bodyType);
+    readVector(stream, saved.bodyType, integratorName);
     if (!stream)
-        throw OpenMMException("RigidLangevinIntegrator: the checkpoint is truncated (it ends inside the rigid body types)");
+        throw OpenMMException(integratorName+": the checkpoint is truncated (it ends inside the rigid body types)");
 }
 
 void RigidBodyModel::writeTypes(SerializationNode& node) const {
@@ -151,7 +151,7 @@ void RigidBodyModel::readTypes(const SerializationNode& node, SavedBodies& saved
             saved.bodyType.push_back(b.getIntProperty("type"));
     }
     catch (const OpenMMException& e) {
-        throw OpenMMException(string("RigidLangevinIntegrator: the State's rigid body types are incomplete: ")+e.what());
+        throw OpenMMException(integratorName+": the State's rigid body types are incomplete: "+e.what());
     }
 }
 
@@ -167,12 +167,12 @@ void RigidBodyModel::checkSavedTypes(const SavedBodies& saved, const string& sou
         if (n == 0 || type.radii.size() != n || type.coords.size() != n || type.isVirtualSite.size() != n || !finite || !(type.mass > 0) ||
                 (type.numRotations != 0 && type.numRotations != 2 && type.numRotations != 3) ||
                 (int) type.frictionClass < 0 || (int) type.frictionClass > (int) FrictionClass::Coupled)
-            throw OpenMMException("RigidLangevinIntegrator: the "+source+"'s rigid body type "+std::to_string(t)+" is corrupt (sizes, numbers of "
+            throw OpenMMException(integratorName+": the "+source+"'s rigid body type "+std::to_string(t)+" is corrupt (sizes, numbers of "
                     "rotations, friction class or values out of range)");
     }
     for (int b = 0; b < (int) saved.bodyType.size(); b++)
         if (saved.bodyType[b] < 0 || saved.bodyType[b] >= (int) saved.types.size())
-            throw OpenMMException("RigidLangevinIntegrator: the "+source+"'s body "+std::to_string(b)+" has body type "+std::to_string(saved.bodyType[b])+
+            throw OpenMMException(integratorName+": the "+source+"'s body "+std::to_string(b)+" has body type "+std::to_string(saved.bodyType[b])+
                     ", but there are "+std::to_string(saved.types.size()));
     for (int b = 0; b < (int) saved.states.size(); b++) {
         const BodyState& s = saved.states[b];
@@ -182,7 +182,7 @@ void RigidBodyModel::checkSavedTypes(const SavedBodies& saved, const string& sou
         Eigen::Matrix3d q = toMatrix3(s.rotation);
         good = good && q.allFinite() && (q*q.transpose()-Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-6;
         if (!good)
-            throw OpenMMException("RigidLangevinIntegrator: the "+source+"'s state of body "+std::to_string(b)+" is corrupt (a value is not finite or "
+            throw OpenMMException(integratorName+": the "+source+"'s state of body "+std::to_string(b)+" is corrupt (a value is not finite or "
                     "its rotation is not orthonormal)");
     }
 }

@@ -24,8 +24,9 @@ public:
     /**
      * @param system        the System
      * @param bodyParticles the particles of each rigid body defined by the user
+     * @param integrator    the integrator's class name, which begins an error message
      */
-    ExactBodyShapes(const OpenMM::System& system, const BodyParticleLists& bodyParticles);
+    ExactBodyShapes(const OpenMM::System& system, const BodyParticleLists& bodyParticles, const std::string& integrator);
     ~ExactBodyShapes();
     /** Whether any body has a constraint or a virtual site, so that apply() changes anything. */
     bool isNeeded() const {

@@ -156,12 +156,15 @@ private:
 /** A body's blob vector (3 per blob) from the lab frame into its frame (toBody), or back. */
 OPENMM_EXPORT_RIGIDLANGEVIN Eigen::VectorXd turnBlobs(const Eigen::VectorXd& v, const double q[3][3], bool toBody);
 
+/** How an integrator's messages about the coupled bodies begin ("<integrator>: hydrodynamic interactions"). */
+OPENMM_EXPORT_RIGIDLANGEVIN std::string hydrodynamicsCaller(const std::string& integrator);
+
 /**
  * The iterations a Krylov solve of the coupled bodies took if it converged; otherwise throw an
  * OpenMMException naming the integrator, the solve, why it failed (KrylovSolvers::explain) and what to do.
  */
 OPENMM_EXPORT_RIGIDLANGEVIN int checkHydrodynamicSolve(const std::string& solve, const KrylovSolvers::Result& result, int numBodies, int numBlobs,
-                                                       const std::string& integrator = "RigidLangevinIntegrator");
+                                                       const std::string& integrator);
 
 /**
  * The friction step of bodies coupled through the solvent: the midpoint (Crank-Nicolson) rule for

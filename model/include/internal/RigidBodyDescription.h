@@ -3,6 +3,7 @@
 
 #include "openmm/Vec3.h"
 #include <map>
+#include <string>
 #include <vector>
 
 namespace RigidLangevinPlugin {
@@ -33,6 +34,8 @@ struct RigidBodyDescription {
     bool hydrodynamicInteractions = false;
     /** Hydrodynamic radii set by hand, by particle index; others come from the System's NonbondedForce. */
     std::map<int, double> particleRadii;
+    /** The integrator's class name, which begins the model's error messages. */
+    std::string integratorName = "RigidLangevinIntegrator";
 };
 
 } // namespace RigidLangevinPlugin

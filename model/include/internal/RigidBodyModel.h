@@ -112,6 +112,10 @@ public:
      */
     RigidBodyModel(const OpenMM::System& system, const RigidBodyDescription& description);
     ~RigidBodyModel();
+    /** The integrator's class name (RigidLangevinIntegrator or RigidBrownianIntegrator), which begins every error message. */
+    const std::string& getIntegratorName() const {
+        return integratorName;
+    }
     /** The number of bodies moved, free particles included. */
     int getNumBodies() const {
         return bodyParticles.size();
@@ -255,7 +259,7 @@ private:
      * Set a type's friction class from its resistance (zeroing off-diagonal round-off of a diagonal
      * one); throws, naming the body, if it is not positive definite in the motions the body makes.
      */
-    static void classifyFriction(BodyType& type, const std::string& name);
+    void classifyFriction(BodyType& type, const std::string& name) const;
     /**
      * The rotation P from each saved type's frame to this model's frame of the same shape (b_here =
      * P b_saved), for every pair of saved and model types some body has; false if a pair's shapes
@@ -289,6 +293,7 @@ private:
     std::vector<int> particleIsVirtualSite;
     bool sitesOutsideBodies;
     std::unique_ptr<ExactBodyShapes> exactShapes;
+    std::string integratorName;
     std::vector<std::vector<double> > explicitTensor;  // per user body, empty if none
     std::vector<OpenMM::Vec3> explicitOrigin;
     std::vector<std::vector<OpenMM::Vec3> > explicitReference;  // the positions each explicit tensor belongs to

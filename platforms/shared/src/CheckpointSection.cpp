@@ -31,8 +31,8 @@ uint32_t frameChecksum(int32_t version, uint64_t length, const string& payload) 
     return checksum(checksum(crc32(0, Z_NULL, 0), header, sizeof(header)), payload.data(), payload.size());
 }
 
-OpenMMException damaged(const string& why) {
-    return OpenMMException("RigidLangevinIntegrator: the checkpoint is damaged ("+why+"): the rigid bodies' part of it cannot be trusted, and "
+OpenMMException damaged(const string& why, const string& integrator) {
+    return OpenMMException(integrator+": the checkpoint is damaged ("+why+"): the rigid bodies' part of it cannot be trusted, and "
                            "it was not loaded. Load an undamaged copy");
 }
 
@@ -49,11 +49,11 @@ void CheckpointSection::write(std::ostream& stream, const string& payload) {
     stream.write(payload.data(), payload.size());
 }
 
-string CheckpointSection::read(std::istream& stream, int& version) {
+string CheckpointSection::read(std::istream& stream, int& version, const string& integrator) {
     char start[4];
     stream.read(start, sizeof(start));
     if (!stream)
-        throw damaged("it ends before the rigid bodies' part");
+        throw damaged("it ends before the rigid bodies' part", integrator);
     if (memcmp(start, Magic, sizeof(Magic)) != 0) {
         int32_t unframed;
         memcpy(&unframed, start, sizeof(unframed));
@@ -61,7 +61,7 @@ string CheckpointSection::read(std::istream& stream, int& version) {
             version = UnframedVersion;
             return string();
         }
-        throw OpenMMException("RigidLangevinIntegrator: the checkpoint's rigid-body part is not one this plugin reads (it is damaged, or was "
+        throw OpenMMException(integrator+": the checkpoint's rigid-body part is not one this plugin reads (it is damaged, or was "
                               "written by a version of the plugin older than format 3 or newer than format "+std::to_string(CurrentVersion)+")");
     }
     uint32_t stored;
@@ -71,7 +71,7 @@ string CheckpointSection::read(std::istream& stream, int& version) {
     stream.read((char*) &written, sizeof(written));
     stream.read((char*) &length, sizeof(length));
     if (!stream)
-        throw damaged("it ends inside the rigid bodies' header");
+        throw damaged("it ends inside the rigid bodies' header", integrator);
     // Read in pieces, so that a damaged length cannot ask for more memory than the stream holds.
     string payload;
     const uint64_t piece = 1 << 20;
@@ -80,12 +80,12 @@ string CheckpointSection::read(std::istream& stream, int& version) {
         payload.resize(start+count);
         stream.read(&payload[start], count);
         if (!stream)
-            throw damaged("it ends "+std::to_string(length-start-stream.gcount())+" bytes before the end its header gives");
+            throw damaged("it ends "+std::to_string(length-start-stream.gcount())+" bytes before the end its header gives", integrator);
     }
     if (frameChecksum(written, length, payload) != stored)
-        throw damaged("its CRC-32 does not match its contents");
+        throw damaged("its CRC-32 does not match its contents", integrator);
     if (written != CurrentVersion)
-        throw OpenMMException("RigidLangevinIntegrator: the checkpoint's rigid-body part has format "+std::to_string(written)+
+        throw OpenMMException(integrator+": the checkpoint's rigid-body part has format "+std::to_string(written)+
                               ", which this version of the plugin (format "+std::to_string(CurrentVersion)+") does not read");
     version = written;
     return payload;

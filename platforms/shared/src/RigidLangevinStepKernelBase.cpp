@@ -59,6 +59,7 @@ RigidBodyDescription describeBodies(const RigidBodyIntegrator& integrator) {
     }
     description.particleRadii = integrator.getParticleRadii();
     description.hydrodynamicInteractions = integrator.getHydrodynamicInteractions();
+    description.integratorName = integratorName(integrator);
     return description;
 }
 
@@ -166,7 +167,7 @@ void RigidLangevinStepKernelBase::checkMotionRemover(double viscosity) const {
     // real motion (a lone body would not diffuse at all; N bodies diffuse 1/N too slowly) and
     // three degrees of freedom. Without friction (NVE) the remover does what it does elsewhere.
     if (removerFrequency > 0 && viscosity != 0)
-        throw OpenMMException("RigidLangevinIntegrator: the System has a CMMotionRemover (force "+std::to_string(removerIndex)+
+        throw OpenMMException(model->getIntegratorName()+": the System has a CMMotionRemover (force "+std::to_string(removerIndex)+
                 ") and the viscosity is not zero. The solvent's friction does not conserve the total momentum, so removing it would "
                 "remove real motion: a lone body would not diffuse at all. Leave the remover out: createSystem(..., removeCMMotion=False) "
                 "in openmm.app, or System.removeForce("+std::to_string(removerIndex)+"). (At zero viscosity a CMMotionRemover is allowed.)");
@@ -201,7 +202,7 @@ void RigidLangevinStepKernelBase::stateChanged(ContextImpl& /*context*/, State::
 
 void RigidLangevinStepKernelBase::updateBodies(ContextImpl& context) {
     if (!refusedRestore.empty())
-        throw OpenMMException("RigidLangevinIntegrator: the last "+refusedRestore+" was refused, but OpenMM had already set the Context's positions, "
+        throw OpenMMException(model->getIntegratorName()+": the last "+refusedRestore+" was refused, but OpenMM had already set the Context's positions, "
                 "velocities, time and box from it, so the rigid bodies do not match them. Load a "+refusedRestore+" that is accepted, or set the "
                 "positions (and velocities) or a State, before stepping");
     if (context.getStepCount() != expectedStepCount)
@@ -209,7 +210,7 @@ void RigidLangevinStepKernelBase::updateBodies(ContextImpl& context) {
     if (!particlesChanged)
         return;
     if (!positionsSet)
-        throw OpenMMException("RigidLangevinIntegrator: the particle positions have not been set; rigid bodies take their shapes from them");
+        throw OpenMMException(model->getIntegratorName()+": the particle positions have not been set; rigid bodies take their shapes from them");
     fitBodiesToParticles(context);
 }
 
@@ -414,7 +415,7 @@ void RigidLangevinStepKernelBase::createCheckpoint(ContextImpl& context, std::os
 void RigidLangevinStepKernelBase::loadCheckpoint(ContextImpl& context, std::istream& stream) {
     refuseStepsIfRestoreFails("checkpoint", [&] () {
         int version;
-        std::istringstream framed(CheckpointSection::read(stream, version));
+        std::istringstream framed(CheckpointSection::read(stream, version, model->getIntegratorName()));
         // Format 3 has no frame: its payload is read from the checkpoint itself.
         std::istream& in = (version == CheckpointSection::UnframedVersion ? stream : framed);
         SavedBodies saved;
@@ -422,12 +423,12 @@ void RigidLangevinStepKernelBase::loadCheckpoint(ContextImpl& context, std::istr
         int numBodies;
         in.read((char*) &numBodies, sizeof(int));
         if (!in || numBodies < 0 || numBodies > model->getNumBodies()+(1<<20))
-            throw OpenMMException("RigidLangevinIntegrator: the checkpoint is corrupt (it has "+std::to_string(numBodies)+" body states)");
+            throw OpenMMException(model->getIntegratorName()+": the checkpoint is corrupt (it has "+std::to_string(numBodies)+" body states)");
         saved.states.resize(numBodies);
         in.read((char*) saved.states.data(), numBodies*sizeof(BodyState));
         loadRandomCheckpoint(in);
         if (!in)
-            throw OpenMMException("RigidLangevinIntegrator: the checkpoint is truncated (it ends inside the body states or the random number generator)");
+            throw OpenMMException(model->getIntegratorName()+": the checkpoint is truncated (it ends inside the body states or the random number generator)");
         model->checkSavedTypes(saved, "checkpoint");
         restoreSavedBodies(context, saved);
         ignoreStateChanges = true;

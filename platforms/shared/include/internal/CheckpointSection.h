@@ -28,9 +28,10 @@ OPENMM_EXPORT_RIGIDLANGEVIN void write(std::ostream& stream, const std::string& 
  * Read a section. For the current format, returns its payload once its checksum and length hold
  * (version = CurrentVersion); for the unframed format 3, returns an empty string with version =
  * UnframedVersion and the stream at its payload. Throws an OpenMMException for anything else: a
- * damaged or truncated section, or one of a format this plugin does not read.
+ * damaged or truncated section, or one of a format this plugin does not read, its message begun
+ * with the integrator's class name.
  */
-OPENMM_EXPORT_RIGIDLANGEVIN std::string read(std::istream& stream, int& version);
+OPENMM_EXPORT_RIGIDLANGEVIN std::string read(std::istream& stream, int& version, const std::string& integrator);
 
 } // namespace CheckpointSection
 
