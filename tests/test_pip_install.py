@@ -4,7 +4,8 @@ libraries where it loads plugins); a small simulation runs on Reference and CPU 
 directory; pip uninstall removes every file it installed.
 
 To build in minutes the test turns the GPU platform kernels off (their build is the same CMake
-code the developer build runs) and builds with all cores.
+code the developer build runs), optimises at -O1 rather than -O3 (a sixth less compile time for
+the same packaging; the optimised build is the developer build's) and builds with all cores.
 """
 import os
 import pathlib
@@ -59,7 +60,8 @@ def test_pip_install_into_a_fresh_environment(tmp_path):
     run([python, '-m', 'pip', 'install', '-q', f'openmm=={openmm.version.short_version}'])
     environment = dict(os.environ, CMAKE_BUILD_PARALLEL_LEVEL=str(os.cpu_count() or 1))
     run([python, '-m', 'pip', 'install', '-q', ROOT, '--config-settings=cmake.define.RIGIDLANGEVIN_BUILD_OPENCL=OFF',
-         '--config-settings=cmake.define.RIGIDLANGEVIN_BUILD_CUDA=OFF'], env=environment)
+         '--config-settings=cmake.define.RIGIDLANGEVIN_BUILD_CUDA=OFF', '--config-settings=cmake.define.CMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG'],
+        env=environment)
 
     # From another directory: nothing of the checkout is on the path.
     elsewhere = tmp_path/'elsewhere'
