@@ -6,6 +6,16 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$ROOT/scripts/setup.sh"
 cd "$ROOT/build"
 status=0
+# Each test job (ctest -j, pytest-xdist's workers) runs on one core: PoCL, the OpenCL platform on the
+# host's cores, would otherwise start a thread per core in each, and two tests side by side then
+# spend their time switching (TestOpenCLSinglePrecision alone: 111 s of CPU with two threads, 73 s
+# with one, and it ends sooner). A GPU's OpenCL driver does not read this variable.
+export POCL_MAX_PTHREAD_COUNT="${POCL_MAX_PTHREAD_COUNT:-1}"
+# ctest starts the tests it knows to be long first (its cost data, kept in the build tree): a fresh
+# clone has none and would start them in the order they were declared, leaving one core busy at the
+# end with the last long test. tests/ctest-costs.txt holds their seconds on 2 cores (2026-12-02).
+costs="$ROOT/build/Testing/Temporary/CTestCostData.txt"
+[ -f "$costs" ] || { mkdir -p "$(dirname "$costs")" && cp "$ROOT/tests/ctest-costs.txt" "$costs"; }
 echo "==> C++ tests (ctest)"
 ctest --output-on-failure -j "${JOBS:-$(nproc)}" || status=1
 if ls "$ROOT"/tests/test_*.py >/dev/null 2>&1; then
