@@ -85,7 +85,7 @@ void PositivelySplitEwald::setBlobs(const vector<Vec3>& positions, const vector<
         PseParameterChoice::checkBudget(p, summary, numPairs, budget);
     });
     wave->setBlobs(positions, group, distinct, boxVectors, p, parallel);
-    memoryBytes = PseParameterChoice::gridBytes(p, summary)+real->getNumPairs()*PseParameterChoice::bytesPerPair();
+    memoryBytes = PseParameterChoice::gridBytes(p, summary)+real->getNumPairs()*PseParameterChoice::bytesPerPair(p.tolerance);
     numBlobs = summary.numBlobs;
 }
 

@@ -147,8 +147,12 @@ void PseParameterChoice::boxWidths(const Vec3 box[3], double widths[3]) {
     }
 }
 
-double PseParameterChoice::bytesPerPair() {
-    return 48;
+bool PseParameterChoice::singlePrecisionPairs(double tolerance) {
+    return tolerance >= 1e-4;
+}
+
+double PseParameterChoice::bytesPerPair(double tolerance) {
+    return (singlePrecisionPairs(tolerance) ? 24 : 48);
 }
 
 double PseParameterChoice::gridBytes(const PseParameters& p, const PseBlobSummary& blobs) {
@@ -163,7 +167,7 @@ double PseParameterChoice::gridBytes(const PseParameters& p, const PseBlobSummar
 }
 
 void PseParameterChoice::checkBudget(const PseParameters& p, const PseBlobSummary& blobs, double numPairs, double budget) {
-    const double grid = gridBytes(p, blobs), pairs = numPairs*bytesPerPair();
+    const double grid = gridBytes(p, blobs), pairs = numPairs*bytesPerPair(p.tolerance);
     if (grid+pairs <= budget)
         return;
     throw OpenMMException("PositivelySplitEwald: "+std::to_string(blobs.numBlobs)+" blobs need "+format((grid+pairs)/GiB)+" GiB (grid "+
@@ -200,7 +204,7 @@ PseParameters PseParameterChoice::choose(double tolerance, double xi, const Vec3
     const double highest = std::max(3/blobs.meanRadius, smallestXi*1.01);
     for (double x = std::max(smallestXi*1.001, 0.02/blobs.meanRadius); x <= highest; x *= 1.04) {
         PseParameters p = parametersFor(tolerance, x, box, blobs);
-        const double bytes = gridBytes(p, blobs)+expectedPairs(p, box, blobs)*bytesPerPair();
+        const double bytes = gridBytes(p, blobs)+expectedPairs(p, box, blobs)*bytesPerPair(p.tolerance);
         const double seconds = expectedSeconds(p, box, blobs);
         if (bytes <= budget && (bestSeconds < 0 || seconds < bestSeconds)) {
             best = p;

@@ -49,8 +49,18 @@ PseParameters choose(double tolerance, double xi, const OpenMM::Vec3 box[3], con
 /** The bytes a product with these parameters holds besides the real-space pairs, for blobs. */
 double gridBytes(const PseParameters& parameters, const PseBlobSummary& blobs);
 
-/** The bytes one real-space pair (one direction) takes. */
-double bytesPerPair();
+/**
+ * Whether the real-space pairs are stored in single precision (summed in double) at this tolerance:
+ * from 1e-4 up, where float's rounding of a pair's terms (6e-8 of each) stays far below the
+ * tolerance (TestPositivelySplitEwald checks 1e-4 against the dense sum); the pairs are read once a
+ * product, and in single precision take half the memory and its traffic (benchmark_pse at 1e5 blobs
+ * and 1e-3, 2 threads, one run each on a quiet machine: a product 394 +- 16 ms in double, 357 +- 8
+ * in single; the peak memory 763 MiB against 452).
+ */
+bool singlePrecisionPairs(double tolerance);
+
+/** The bytes one real-space pair (one direction) takes at this tolerance. */
+double bytesPerPair(double tolerance);
 
 /** Throws the over-budget OpenMMException if the grid and numPairs real-space pairs exceed budget. */
 void checkBudget(const PseParameters& parameters, const PseBlobSummary& blobs, double numPairs, double budget);

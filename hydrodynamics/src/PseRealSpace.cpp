@@ -116,21 +116,39 @@ void PseRealSpace::setBlobs(const vector<Vec3>& positions, const vector<int>& gr
     for (int i = 0; i < n; i++)
         rowStart[i+1] = rowStart[i]+counts[i];
     checkPairs((double) rowStart[n]);
-    pairs.clear();
-    pairs.shrink_to_fit();
-    pairs.resize(rowStart[n]);
+    singlePairs.clear();
+    singlePairs.shrink_to_fit();
+    doublePairs.clear();
+    doublePairs.shrink_to_fit();
     self.resize(n);
     parallel(n, [&] (int begin, int end) {
         for (int i = begin; i < end; i++) {
             double dyadic;
             table.realSpace(0, sortedGroup[i], sortedGroup[i], self[i], dyadic);
+        }
+    });
+    if (PseParameterChoice::singlePrecisionPairs(parameters.tolerance))
+        storePairs(singlePairs, parallel);
+    else
+        storePairs(doublePairs, parallel);
+}
+
+template <class Real>
+void PseRealSpace::storePairs(vector<Pair<Real>>& pairs, const ParallelFor& parallel) {
+    const int n = self.size();
+    pairs.resize(rowStart[n]);
+    parallel(n, [&] (int begin, int end) {
+        for (int i = begin; i < end; i++) {
             long long k = rowStart[i];
             forEachNeighbour(i, [&] (int j, const Vec3& d, double r) {
-                Pair& pair = pairs[k++];
+                Pair<Real>& pair = pairs[k++];
                 pair.j = j;
-                table.realSpace(r, sortedGroup[i], sortedGroup[j], pair.isotropic, pair.dyadicPerR2);
+                double isotropic, dyadicPerR2;
+                table.realSpace(r, sortedGroup[i], sortedGroup[j], isotropic, dyadicPerR2);
+                pair.isotropic = (Real) isotropic;
+                pair.dyadicPerR2 = (Real) dyadicPerR2;
                 for (int c = 0; c < 3; c++)
-                    pair.d[c] = d[c];
+                    pair.d[c] = (Real) d[c];
             });
         }
     });
@@ -142,12 +160,20 @@ void PseRealSpace::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out, cons
     for (int k = 0; k < n; k++)
         sorted.segment<3>(3*k) = f.segment<3>(3*order[k]);
     out.resize(3*n);
-    parallel(n, [&] (int begin, int end) {
+    if (singlePairs.empty())
+        multiplyRows(doublePairs, sorted, out, parallel);
+    else
+        multiplyRows(singlePairs, sorted, out, parallel);
+}
+
+template <class Real>
+void PseRealSpace::multiplyRows(const vector<Pair<Real>>& pairs, const Eigen::VectorXd& sorted, Eigen::VectorXd& out, const ParallelFor& parallel) const {
+    parallel(self.size(), [&] (int begin, int end) {
         for (int i = begin; i < end; i++) {
             const double* fi = sorted.data()+3*i;
             double u[3] = {self[i]*fi[0], self[i]*fi[1], self[i]*fi[2]};
             for (long long k = rowStart[i]; k < rowStart[i+1]; k++) {
-                const Pair& pair = pairs[k];
+                const Pair<Real>& pair = pairs[k];
                 const double* fj = sorted.data()+3*pair.j;
                 const double projection = pair.dyadicPerR2*(pair.d[0]*fj[0]+pair.d[1]*fj[1]+pair.d[2]*fj[2]);
                 for (int c = 0; c < 3; c++)

@@ -35,13 +35,19 @@ public:
     void multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out, const ParallelFor& parallel) const;
     /** The stored pairs (each counted in both directions). */
     long long getNumPairs() const {
-        return pairs.size();
+        return rowStart.empty() ? 0 : rowStart.back();
     }
 private:
+    /** A pair's terms, in single or double precision (PseParameterChoice::singlePrecisionPairs). */
+    template <class Real>
     struct Pair {
-        int j;                                // in the cells' order
-        double isotropic, dyadicPerR2, d[3];  // F = isotropic I + dyadicPerR2 d d^T, d = r_j - r_i
+        int j;                              // in the cells' order
+        Real isotropic, dyadicPerR2, d[3];  // F = isotropic I + dyadicPerR2 d d^T, d = r_j - r_i
     };
+    template <class Real>
+    void storePairs(std::vector<Pair<Real>>& pairs, const ParallelFor& parallel);
+    template <class Real>
+    void multiplyRows(const std::vector<Pair<Real>>& pairs, const Eigen::VectorXd& sorted, Eigen::VectorXd& out, const ParallelFor& parallel) const;
     /** Call visit(j, d, r) for every blob j != i (both in the cells' order) within i's pair cutoff,
      *  d the nearest image's offset. */
     template <class Visit>
@@ -57,7 +63,8 @@ private:
     int numCells[3];
     std::vector<int> cellStart;
     std::vector<long long> rowStart;
-    std::vector<Pair> pairs;
+    std::vector<Pair<float>> singlePairs;   // one of the two is filled
+    std::vector<Pair<double>> doublePairs;
 };
 
 } // namespace RigidLangevinPlugin

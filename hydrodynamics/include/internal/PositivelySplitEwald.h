@@ -32,7 +32,8 @@ struct PseParameters;
  * between the two parts without changing the answer, and when not given is the one a cost model
  * estimates cheapest. The product M f agrees with the dense Ewald sum PeriodicRotnePragerYamakawa
  * to a relative error |dM f|/|M f| below epsilon (measured: at most 0.3 epsilon for epsilon from
- * 1e-3 to 1e-9, TestPositivelySplitEwald). Memory O(B) plus the grid; setBlobs() checks the total
+ * 1e-3 to 1e-9, TestPositivelySplitEwald). Memory O(B) plus the grid, the real-space pairs stored
+ * in single precision (summed in double) from epsilon = 1e-4 up; setBlobs() checks the total
  * against a budget before anything large is allocated.
  *
  * The noise: sampleNoise() returns a vector of covariance M exactly through the split, M_wave^1/2
