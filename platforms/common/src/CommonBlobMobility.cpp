@@ -7,9 +7,9 @@ using namespace RigidLangevinPlugin;
 using namespace OpenMM;
 using std::vector;
 
-CommonBlobMobility::CommonBlobMobility(ComputeContext& cc) : cc(cc), numBlobs(0), numParts(1), periodic(false), wall(false) {
+CommonBlobMobility::CommonBlobMobility(ComputeContext& cc, const std::string& integrator) : cc(cc), numBlobs(0), numParts(1), periodic(false), wall(false) {
     if (!cc.getSupportsDoublePrecision())
-        throw OpenMMException("RigidLangevinIntegrator: hydrodynamic interactions on this device need double precision, which it does not have; "
+        throw OpenMMException(integrator+": hydrodynamic interactions on this device need double precision, which it does not have; "
                 "use another device, the CPU platform, or setHydrodynamicInteractions(false)");
     ContextSelector selector(cc);
     ComputeProgram program = cc.compileProgram(CommonRigidLangevinKernelSources::blobMobility, {{"BLOB_TILE", std::to_string(TileSize)}});

@@ -4,6 +4,7 @@
 #include "internal/BlobMobility.h"
 #include "openmm/common/ComputeArray.h"
 #include "openmm/common/ComputeContext.h"
+#include <string>
 
 namespace RigidLangevinPlugin {
 
@@ -20,11 +21,11 @@ namespace RigidLangevinPlugin {
  * threads; the spectral solver's, SpectralBlobMobility, are the kernel base's and never reach
  * this class: a device FFT path, OpenMM's createFFT, is not there yet); the device kernel is for
  * an unbounded solvent. Throws an
- * OpenMMException if the device has no double precision.
+ * OpenMMException, begun with the integrator's class name, if the device has no double precision.
  */
 class CommonBlobMobility : public BlobMobility {
 public:
-    explicit CommonBlobMobility(OpenMM::ComputeContext& cc);
+    CommonBlobMobility(OpenMM::ComputeContext& cc, const std::string& integrator);
     void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors = NULL);
     void multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out);
     /** Above a wall every product is the host's. */

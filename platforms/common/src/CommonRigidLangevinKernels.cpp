@@ -519,7 +519,7 @@ std::function<double ()> CommonIntegrateRigidLangevinStepKernel::hostNormals() {
 
 BlobMobility& CommonIntegrateRigidLangevinStepKernel::blobMobility() {
     if (!deviceMobility)
-        deviceMobility.reset(new CommonBlobMobility(cc));
+        deviceMobility.reset(new CommonBlobMobility(cc, model->getIntegratorName()));
     return *deviceMobility;
 }
 

@@ -84,7 +84,7 @@ void CpuIntegrateRigidLangevinStepKernel::loadRandomCheckpoint(std::istream& str
     int numStreams;
     stream.read((char*) &numStreams, sizeof(int));
     if (!stream || numStreams != (int) random.size())
-        throw OpenMMException("RigidLangevinIntegrator: the checkpoint was not written by the CPU platform for this System "
+        throw OpenMMException(model->getIntegratorName()+": the checkpoint was not written by the CPU platform for this System "
                               "(it has "+std::to_string(numStreams)+" random number streams, this context "+std::to_string(random.size())+")");
     for (auto& r : random)
         r->random.loadCheckpoint(stream);
