@@ -212,18 +212,16 @@ namespace {
 
 /** Whether an OpenCL platform runs on PoCL, the host's cores standing in for a GPU (read once). */
 bool emulatedOnTheHost(const PlatformConfig& config) {
-    static std::map<std::string, bool> emulated;
     if (config.platform != "OpenCL")
         return false;
-    if (emulated.count(config.platform) == 0) {
+    static const bool emulated = [&] () {
         OpenMM::System system;
         system.addParticle(1.0);
         OpenMM::VerletIntegrator integrator(0.001);
         OpenMM::Context context(system, integrator, config.get(), config.properties());
-        std::string name = config.get().getPropertyValue(context, "OpenCLPlatformName");
-        emulated[config.platform] = (name.find("Portable Computing Language") != std::string::npos);
-    }
-    return emulated[config.platform];
+        return config.get().getPropertyValue(context, "OpenCLPlatformName").find("Portable Computing Language") != std::string::npos;
+    }();
+    return emulated;
 }
 
 } // namespace
