@@ -98,8 +98,9 @@ RIGIDLANGEVIN_TILED_CLONES void addTilePairInSingle(const Blobs<float>& b, int r
     addTilePair(b, rowBegin, rowEnd, columnBegin, columnEnd, rowSums, columnSums);
 }
 
-/** The power of two nearest above the largest magnitude in values (1 if none is positive): scaling by it is exact. */
-double powerOfTwoAbove(const double* values, int count) {
+} // namespace
+
+double TiledBlobProduct::powerOfTwoAbove(const double* values, int count) {
     double largest = 0;
     for (int i = 0; i < count; i++)
         largest = std::max(largest, std::abs(values[i]));
@@ -109,8 +110,6 @@ double powerOfTwoAbove(const double* values, int count) {
     std::frexp(largest, &exponent);
     return std::ldexp(1.0, exponent);
 }
-
-} // namespace
 
 void TiledBlobProduct::setBlobs(const vector<Vec3>& positions, const vector<double>& radii) {
     wall = false;

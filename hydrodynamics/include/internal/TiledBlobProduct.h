@@ -67,6 +67,12 @@ public:
     }
     /** The widest span of radii (largest over smallest) that single precision takes. */
     static constexpr double MaxSingleRadiusRatio = 1000;
+    /**
+     * The power of two nearest above the largest magnitude in values (1 if none is positive and
+     * finite): lengths and forces in units of it (an exact scaling) keep single-precision pair terms
+     * well inside float's range (CommonBlobMobility's device kernel uses it too).
+     */
+    static double powerOfTwoAbove(const double* values, int count);
     /** The number of blobs. */
     int getNumBlobs() const {
         return numBlobs;

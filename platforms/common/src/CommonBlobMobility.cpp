@@ -1,20 +1,51 @@
 #include "CommonBlobMobility.h"
 #include "CommonRigidLangevinKernelSources.h"
 #include "openmm/OpenMMException.h"
+#include "internal/TiledBlobProduct.h"
 #include "openmm/common/ContextSelector.h"
+#include <algorithm>
 
 using namespace RigidLangevinPlugin;
 using namespace OpenMM;
 using std::vector;
 
-CommonBlobMobility::CommonBlobMobility(ComputeContext& cc, const std::string& integrator) : cc(cc), numBlobs(0), numParts(1), periodic(false), wall(false) {
+CommonBlobMobility::CommonBlobMobility(ComputeContext& cc, const std::string& integrator)
+        : cc(cc), numBlobs(0), numParts(1), tilesPerPart(1), periodic(false), wall(false), singleRequested(false), single(false), lengthScale(1) {
     if (!cc.getSupportsDoublePrecision())
         throw OpenMMException(integrator+": hydrodynamic interactions on this device need double precision, which it does not have; "
                 "use another device, the CPU platform, or setHydrodynamicInteractions(false)");
-    ContextSelector selector(cc);
-    ComputeProgram program = cc.compileProgram(CommonRigidLangevinKernelSources::blobMobility, {{"BLOB_TILE", std::to_string(TileSize)}});
-    kernel = program->createKernel("multiplyBlobMobility");
-    sumKernel = program->createKernel("sumBlobMobilityParts");
+}
+
+void CommonBlobMobility::bindProductKernel() {
+    ComputeKernel& product = kernels[single ? 1 : 0];
+    if (product == NULL) {
+        ComputeProgram program = cc.compileProgram(CommonRigidLangevinKernelSources::blobMobility,
+                {{"BLOB_TILE", std::to_string(TileSize)}, {"PAIR_SINGLE", single ? "1" : "0"}});
+        product = program->createKernel("multiplyBlobMobility");
+        for (int k = 0; k < 3; k++)
+            product->addArg(0);
+        product->addArg(1.0);
+        product->addArg(1.0);
+        product->addArg(blobs);
+        product->addArg(force);
+        product->addArg(velocity);
+        if (sumKernel == NULL) {
+            sumKernel = program->createKernel("sumBlobMobilityParts");
+            sumKernel->addArg(0);
+            sumKernel->addArg(0);
+            sumKernel->addArg(parts);
+            sumKernel->addArg(velocity);
+        }
+    }
+    kernel = product;
+    kernel->setArg(0, numBlobs);
+    kernel->setArg(1, numParts);
+    kernel->setArg(2, tilesPerPart);
+    kernel->setArg(3, lengthScale);
+    // With one part the kernel writes the velocity itself and the sum is skipped.
+    kernel->setArg(7, numParts == 1 ? velocity : parts);
+    sumKernel->setArg(0, numBlobs);
+    sumKernel->setArg(1, numParts);
 }
 
 void CommonBlobMobility::setBlobs(const vector<Vec3>& positions, const vector<double>& radii, const Vec3* boxVectors) {
@@ -35,23 +66,13 @@ void CommonBlobMobility::setBlobs(const vector<Vec3>& positions, const vector<do
     const int numTiles = (size+TileSize-1)/TileSize;
     const int wantedGroups = std::max(MinWorkGroups, cc.getNumThreadBlocks());
     const int wantedParts = std::min(numTiles, (wantedGroups+numTiles-1)/numTiles);
-    const int tilesPerPart = (numTiles+wantedParts-1)/wantedParts;
+    tilesPerPart = (numTiles+wantedParts-1)/wantedParts;
     numParts = (numTiles+tilesPerPart-1)/tilesPerPart;
     if (!blobs.isInitialized()) {
         blobs.initialize<double>(cc, 4*size, "rigidBodyBlobs");
         force.initialize<double>(cc, 3*size, "rigidBodyBlobForce");
         velocity.initialize<double>(cc, 3*size, "rigidBodyBlobVelocity");
         parts.initialize<double>(cc, 3*size*numParts, "rigidBodyBlobVelocityParts");
-        kernel->addArg(numBlobs);
-        kernel->addArg(numParts);
-        kernel->addArg(tilesPerPart);
-        kernel->addArg(blobs);
-        kernel->addArg(force);
-        kernel->addArg(parts);
-        sumKernel->addArg(numBlobs);
-        sumKernel->addArg(numParts);
-        sumKernel->addArg(parts);
-        sumKernel->addArg(velocity);
     }
     else if ((int) blobs.getSize() != 4*size || (int) parts.getSize() != 3*size*numParts) {
         blobs.resize(4*size);
@@ -59,6 +80,12 @@ void CommonBlobMobility::setBlobs(const vector<Vec3>& positions, const vector<do
         velocity.resize(3*size);
         parts.resize(3*size*numParts);
     }
+    // Radii spanning more than TiledBlobProduct::MaxSingleRadiusRatio would take 1/r^3 of the
+    // closest pairs out of single precision's range, as on the host.
+    const auto span = std::minmax_element(radii.begin(), radii.end());
+    single = singleRequested && (numBlobs == 0 || *span.first*TiledBlobProduct::MaxSingleRadiusRatio >= *span.second);
+    lengthScale = (single ? TiledBlobProduct::powerOfTwoAbove(radii.data(), numBlobs) : 1.0);
+    bindProductKernel();
     vector<double> packed(4*size, 0.0);
     for (int k = 0; k < numBlobs; k++) {
         for (int d = 0; d < 3; d++)
@@ -66,13 +93,6 @@ void CommonBlobMobility::setBlobs(const vector<Vec3>& positions, const vector<do
         packed[4*k+3] = radii[k];
     }
     blobs.upload(packed);
-    kernel->setArg(0, numBlobs);
-    kernel->setArg(1, numParts);
-    kernel->setArg(2, tilesPerPart);
-    // With one part the kernel writes the velocity itself and the sum is skipped.
-    kernel->setArg(5, numParts == 1 ? velocity : parts);
-    sumKernel->setArg(0, numBlobs);
-    sumKernel->setArg(1, numParts);
 }
 
 void CommonBlobMobility::setWall(double wallZ) {
@@ -82,6 +102,7 @@ void CommonBlobMobility::setWall(double wallZ) {
 
 void CommonBlobMobility::setTolerance(double tolerance) {
     onHost.setTolerance(tolerance);
+    singleRequested = (tolerance >= HostBlobMobility::SinglePrecisionTolerance);
 }
 
 void CommonBlobMobility::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out) {
@@ -96,6 +117,8 @@ void CommonBlobMobility::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out
         return;
     ContextSelector selector(cc);
     force.upload(f.data());
+    // Forces in units of a power of two near the largest (an exact scaling) for single precision's range.
+    kernel->setArg(4, single ? TiledBlobProduct::powerOfTwoAbove(f.data(), f.size()) : 1.0);
     const int numTiles = (numBlobs+TileSize-1)/TileSize;
     kernel->execute(numTiles*numParts*TileSize, TileSize);
     if (numParts > 1)

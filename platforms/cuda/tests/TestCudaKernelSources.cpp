@@ -110,7 +110,9 @@ std::string compositeSource(const CudaPrelude& prelude, const std::string& preci
     src << *prelude.vectorOps << RigidBodyKernelLayout::source() << "\n";
     src << CommonRigidLangevinKernelSources::stickyDipoleSites << "\n";
     src << stickyDipolePairKernel() << "\n";
-    src << "#define BLOB_TILE 64\n" << CommonRigidLangevinKernelSources::blobMobility << "\n";
+    // The blobs' product with its pair terms in single precision (CommonBlobMobility at loose
+    // tolerances) in the single-precision composite, in double in the others.
+    src << "#define BLOB_TILE 64\n#define PAIR_SINGLE " << (precision == "single" ? 1 : 0) << "\n" << CommonRigidLangevinKernelSources::blobMobility << "\n";
     return src.str();
 }
 
