@@ -39,9 +39,10 @@ const int Padding = 8;
 
 /**
  * A tile's view of the blobs for pair terms in Real: positions (scaled, see TiledBlobProduct.cpp)
- * in double, so that differences are taken before rounding to Real; radii, squared radii, heights
- * (above a wall: z itself) and forces in Real; radii and forces in double for the pairs done
- * exactly.
+ * in double; in single precision each also as two floats, its rounding (high) and what that left
+ * (low), so that a difference of positions is good to float's precision relative to the distance
+ * (positionDifference()); radii, squared radii, heights (above a wall: z itself) and forces in
+ * Real; radii and forces in double for the pairs done exactly.
  */
 template <class Real> struct Blobs {
     const double *x, *y, *z;
@@ -49,6 +50,7 @@ template <class Real> struct Blobs {
     const double *exactA, *exactFx, *exactFy, *exactFz;
     int count, padded;
     bool wall;
+    const float *high[3], *low[3];  ///< single precision only
 };
 
 template <class Real> LANES_INLINE typename Lanes<Real>::Vector splat(double value) {
@@ -61,14 +63,20 @@ template <class V> LANES_INLINE V load(const void* p) {
     return v;
 }
 
-/** p[0..lanes) - c, taken in double and rounded to the lanes' precision. */
-template <class V> LANES_INLINE V difference(const double* p, double c);
-template <> LANES_INLINE Lanes<double>::Vector difference(const double* p, double c) {
-    return load<Lanes<double>::Vector>(p)-c;
+/**
+ * The differences of positions p_j - p_i along axis (0, 1, 2) for the lanes' sources from j: in
+ * double, exactly as stored; in single, (high_j - high_i) + (low_j - low_i), float operations only
+ * (converting differences taken in double cost more and lengthened each pair's chain of dependent
+ * operations), good to about two float roundings of the difference.
+ */
+template <class Real> LANES_INLINE typename Lanes<Real>::Vector positionDifference(const Blobs<Real>& b, int axis, int j, int i);
+template <> LANES_INLINE Lanes<double>::Vector positionDifference(const Blobs<double>& b, int axis, int j, int i) {
+    const double* p = (axis == 0 ? b.x : axis == 1 ? b.y : b.z);
+    return load<Lanes<double>::Vector>(p+j)-p[i];
 }
-template <> LANES_INLINE Lanes<float>::Vector difference(const double* p, double c) {
-    typedef double Eight __attribute__((vector_size(64)));
-    return __builtin_convertvector(load<Eight>(p)-c, Lanes<float>::Vector);
+template <> LANES_INLINE Lanes<float>::Vector positionDifference(const Blobs<float>& b, int axis, int j, int i) {
+    typedef Lanes<float>::Vector V;
+    return (load<V>(b.high[axis]+j)-b.high[axis][i])+(load<V>(b.low[axis]+j)-b.low[axis][i]);
 }
 
 /** Four single-precision 1/sqrt estimates (12 bits) of four floats. */

@@ -174,6 +174,15 @@ void TiledBlobProduct::fillSingleArrays() {
     }
     for (vector<float>* v : {&singleFx, &singleFy, &singleFz})
         v->assign(single ? x.size() : 0, 0.0f);
+    const vector<double>* exact[3] = {&x, &y, &z};
+    for (int axis = 0; axis < 3; axis++) {
+        singleHigh[axis].resize(single ? x.size() : 0);
+        singleLow[axis].resize(single ? x.size() : 0);
+        for (int i = 0; i < (int) singleHigh[axis].size(); i++) {
+            singleHigh[axis][i] = (float) (*exact[axis])[i];
+            singleLow[axis][i] = (float) ((*exact[axis])[i]-singleHigh[axis][i]);
+        }
+    }
 }
 
 void TiledBlobProduct::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out, const KrylovSolvers::ParallelFor& parallel) {
@@ -218,12 +227,13 @@ int TiledBlobProduct::pairTileSize(int padded) {
 
 TiledBlobLanes::Blobs<double> TiledBlobProduct::inDouble() const {
     return {x.data(), y.data(), z.data(), radius.data(), radius2.data(), z.data(), fx.data(), fy.data(), fz.data(),
-            radius.data(), fx.data(), fy.data(), fz.data(), numBlobs, (int) x.size(), wall};
+            radius.data(), fx.data(), fy.data(), fz.data(), numBlobs, (int) x.size(), wall, {}, {}};
 }
 
 TiledBlobLanes::Blobs<float> TiledBlobProduct::inSingle() const {
     return {x.data(), y.data(), z.data(), singleRadius.data(), singleRadius2.data(), singleHeight.data(), singleFx.data(), singleFy.data(),
-            singleFz.data(), radius.data(), fx.data(), fy.data(), fz.data(), numBlobs, (int) x.size(), wall};
+            singleFz.data(), radius.data(), fx.data(), fy.data(), fz.data(), numBlobs, (int) x.size(), wall,
+            {singleHigh[0].data(), singleHigh[1].data(), singleHigh[2].data()}, {singleLow[0].data(), singleLow[1].data(), singleLow[2].data()}};
 }
 
 void TiledBlobProduct::addRowSums(int begin, int end, int sourceBegin, int sourceEnd, double* sums) const {

@@ -105,8 +105,8 @@ TEST(TiledBlobProduct, InSinglePrecisionIsTheDenseProductToAMillionth) {
     // Single-precision pair terms: each within about 1e-7 of its block, each lane's sum over a tile
     // in single, the tiles' sums in double. The product's error is measured against the dense
     // matrix, unbounded and above the wall, for blobs in colloid units (radii 50-400 nm: the scaled
-    // lengths), and must stay under 1e-6 (positions rounded to single before their differences
-    // show as 1e-5 or more; a wrong term as 1e-3).
+    // lengths) 0.36 mm from the origin, and must stay under 1e-6 (positions rounded to single before
+    // their differences show as 6e-6 or more, 6e-7 at a tenth of the distance; a wrong term as 1e-3).
     for (bool wall : {false, true})
         for (int n : {37, 1103}) {
             SCOPED_TRACE(std::string(wall ? "above a wall, " : "unbounded, ")+std::to_string(n));
@@ -115,7 +115,7 @@ TEST(TiledBlobProduct, InSinglePrecisionIsTheDenseProductToAMillionth) {
             randomBlobs(n, n, positions, radii);
             const double wallZ = (wall ? aboveWall(positions, radii) : 0.0);
             for (int i = 0; i < n; i++) {
-                positions[i] = positions[i]*1000.0+Vec3(3e4, -2e4, 0);
+                positions[i] = positions[i]*1000.0+Vec3(3e5, -2e5, 0);
                 radii[i] *= 1000.0;
             }
             Eigen::MatrixXd dense = (wall ? RotnePragerBlake::mobilityMatrix(positions, radii, 1000*wallZ) : CoupledResistanceMath::mobilityMatrix(positions, radii))

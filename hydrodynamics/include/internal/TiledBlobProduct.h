@@ -24,14 +24,18 @@ template <class Real> struct Blobs;
  * single precision's range holds every term); each blob's row is a sum over tiles of Tile blobs,
  * each tile's pairs four at a time in double precision or eight in single (setSinglePrecision();
  * GCC's vector extensions; a build for AVX2 and FMA and one for the baseline, chosen when the
- * library loads). Differences of positions are taken in double before any rounding; 1/r comes
+ * library loads). Differences of positions are exact in double and, in single, taken from each
+ * position held as two floats (its rounding and the remainder), good to float's precision relative
+ * to the distance however far the blobs are from the origin; 1/r comes
  * from a single-precision estimate refined by third-order steps (two in double, one in single: no
  * square root or division per pair); each lane sums its pairs of one tile in its own precision, and
  * every row's sums over the tiles are in double. Pairs that overlap
  * (r <= a_i + a_j, including one blob inside another and a blob with itself) are left out of the
  * lanes and added exactly, in double, from RotnePragerYamakawa::mobilityBlock(); so are pairs too
  * far apart or too close for the lanes (scaled r^2 outside [1e-30, 1e30] in double, [1e-10, 1e20]
- * in single). Above a wall each pair's image part is added in the same lanes, every pair (a blob's
+ * in single). In an unbounded solvent a row's free blocks with up to 32 chunks of lanes are
+ * evaluated before they are applied, so that their chains of dependent operations overlap. Above a
+ * wall each pair's image part is added in the same lanes, every pair (a blob's
  * own image too: the wall's part of its self-mobility); it is smooth wherever both blobs are at
  * their evaluated heights, so none is left out. In double precision the result equals the dense
  * matrix's product to round-off; in single, to about 3e-7 (relative).
@@ -87,6 +91,8 @@ private:
     std::vector<double> x, y, z, radius, radius2, fx, fy, fz;
     /** Radii, squared radii, heights and forces in single precision, when the pair terms are. */
     std::vector<float> singleRadius, singleRadius2, singleHeight, singleFx, singleFy, singleFz;
+    /** Then x, y and z too, each as its rounding to single precision and what that left (TiledBlobLanes::Blobs). */
+    std::vector<float> singleHigh[3], singleLow[3];
     /** Each blob's damping by the wall's regularisation (1 in an unbounded solvent). */
     std::vector<double> damping;
     /** Each pair task's sums (multiplyByTilePairs()). */
