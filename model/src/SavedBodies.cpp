@@ -44,8 +44,8 @@ void readVector(std::istream& stream, vector<T>& values, const string& integrato
 }
 
 /**
- * Relative difference below which a saved friction matrix is this model's, computed in another
- * frame: rounding makes them differ by ~1e-15; a friction a user changed differs by far more.
+ * Relative difference below which a saved friction matrix is this model's, computed again in the
+ * saved frame: rounding makes them differ by ~1e-15; a friction a user changed differs by far more.
  */
 const double SameFrictionTolerance = 1e-10;
 
@@ -241,12 +241,11 @@ bool RigidBodyModel::restoreStates(const SavedBodies& saved, const vector<Vec3>&
     }
     if (!placedAt(states, positions, box))
         return false;
-    typesChanged = adoptSavedFrames(saved, frameChange, states);
+    typesChanged = adoptSavedFrames(saved, states);
     return true;
 }
 
-bool RigidBodyModel::adoptSavedFrames(const SavedBodies& saved, const std::map<std::pair<int, int>, Eigen::Matrix3d>& frameChange,
-                                      vector<BodyState>& states) {
+bool RigidBodyModel::adoptSavedFrames(const SavedBodies& saved, vector<BodyState>& states) {
     // The one saved type of each type's bodies: -2 none seen yet, -1 several.
     vector<int> savedType(types.size(), -2);
     for (int b = 0; b < getNumBodies(); b++) {
@@ -264,19 +263,24 @@ bool RigidBodyModel::adoptSavedFrames(const SavedBodies& saved, const std::map<s
         BodyType& type = types[t];
         if (from.coords == type.coords && from.inertia == type.inertia)
             continue;
-        Eigen::Matrix3d p = frameChange.at(std::make_pair(s, t));
         type.coords = from.coords;
         type.inertia = from.inertia;
         type.diameter = shapeDiameter(type.coords);
-        // This model's friction in the saved frame; where it is the saved one but for the rounding of
-        // computing it in another frame, the saved one as it is, so that the run continues bit for bit.
-        Matrix6 rotated = ResistanceMath::rotate(type.resistance, p.transpose());
-        if ((rotated-from.resistance).cwiseAbs().maxCoeff() <= SameFrictionTolerance*rotated.cwiseAbs().maxCoeff()) {
+        // This model's friction computed again in the saved frame, from the saved shape: the default
+        // model's volume correction integrates on a grid along the frame's axes, so the friction of
+        // the same body computed in a frame fitted the other way round (a fresh Context fits its
+        // bodies to the checkpoint's particles) differs by ~1e-7, and turning it into the saved frame
+        // continued the run with other friction, and with another friction class other random numbers.
+        // Where it is the saved one but for rounding, the saved one as it is, so that the run
+        // continues bit for bit; where it differs (radii or a tensor changed), this model's.
+        const double identity[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+        Matrix6 here = bodyFrameResistance(getFirstBodyOfType(t), from.coords, identity);
+        if ((here-from.resistance).cwiseAbs().maxCoeff() <= SameFrictionTolerance*here.cwiseAbs().maxCoeff()) {
             type.resistance = from.resistance;
             type.frictionClass = from.frictionClass;
         }
         else {
-            type.resistance = rotated;
+            type.resistance = here;
             classifyFriction(type, getBodyName(getFirstBodyOfType(t)));
         }
         changed = true;

@@ -273,7 +273,7 @@ private:
      * body with equal moments (any axes are principal) was chosen otherwise. Returns whether a
      * type changed.
      */
-    bool adoptSavedFrames(const SavedBodies& saved, const std::map<std::pair<int, int>, Eigen::Matrix3d>& frameChange, std::vector<BodyState>& states);
+    bool adoptSavedFrames(const SavedBodies& saved, std::vector<BodyState>& states);
     /** The explicit blobs of a body in the frame with rotation (lab to frame) where its particles' offsets from the centre of mass are offsets. */
     /** The rotation from the frame of positions given with a body's tensor or blobs (reference, with
      *  their centre of mass) to its offsets now; refused, naming given and what it was placedFor,
