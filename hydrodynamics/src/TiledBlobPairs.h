@@ -69,8 +69,9 @@ const int TermChunks = 32;
  * dependent operations (the differences, 1/sqrt and its refinement, the coefficients) that one
  * chunk's products could not hide, while the blocks of different chunks are independent, so the
  * processor overlaps them (3840 blobs, one thread: 15.6 to 12.8 ms a product in single precision,
- * with its positions as two floats, and 33.9 to 26.9 in double). masks[c] marks the lanes of chunk c left out (overlapping, the blob itself,
- * padding too far or too close for the lanes); returns whether any lane was.
+ * with its positions as two floats, and 33.9 to 26.9 in double). masks[c] marks the lanes of chunk
+ * c left out (overlapping, the blob itself, padding too far or too close for the lanes); returns
+ * whether any lane was.
  */
 template <class Real, class Mask, class Apply>
 LANES_INLINE bool forFreeBlocks(const Blobs<Real>& b, int i, int begin, int end, Mask* masks, const Apply& apply) {
