@@ -230,19 +230,17 @@ LANES_INLINE bool addPairsBothWays(const Blobs<Real>& b, int i, int begin, int e
         const V alongJ = dyadic*(dx*fx+dy*fy+dz*fz), alongI = dyadic*(dx*fxi+dy*fyi+dz*fzi);
         V ux = isotropic*fx+alongJ*dx, uy = isotropic*fy+alongJ*dy, uz = isotropic*fz+alongJ*dz;
         V wx = isotropic*fxi+alongI*dx, wy = isotropic*fyi+alongI*dy, wz = isotropic*fzi+alongI*dz;
-        if (Wall) {
-            const V rx = -dx, ry = -dy, hj = load<V>(b.h+j), rz = hi+hj;
-            V k[5];
-            imageCoefficients<Real>(rx, ry, rz, hi, hj, ai2, load<V>(b.a2+j), k);
-            const V rj = rx*fx+ry*fy+rz*fz, ri = rx*fxi+ry*fyi+rz*fzi;
-            const V toI = k[1]*rj+k[2]*fz, toJ = k[1]*ri+k[3]*fzi;
-            ux += k[0]*fx+toI*rx;
-            uy += k[0]*fy+toI*ry;
-            uz += k[0]*fz+toI*rz+k[3]*rj+k[4]*fz;
-            wx += k[0]*fxi+toJ*rx;
-            wy += k[0]*fyi+toJ*ry;
-            wz += k[0]*fzi+toJ*rz+k[2]*ri+k[4]*fzi;
-        }
+        const V rx = -dx, ry = -dy, hj = load<V>(b.h+j), rz = hi+hj;
+        V k[5];
+        imageCoefficients<Real>(rx, ry, rz, hi, hj, ai2, load<V>(b.a2+j), k);
+        const V rj = rx*fx+ry*fy+rz*fz, ri = rx*fxi+ry*fyi+rz*fzi;
+        const V toI = k[1]*rj+k[2]*fz, toJ = k[1]*ri+k[3]*fzi;
+        ux += k[0]*fx+toI*rx;
+        uy += k[0]*fy+toI*ry;
+        uz += k[0]*fz+toI*rz+k[3]*rj+k[4]*fz;
+        wx += k[0]*fxi+toJ*rx;
+        wy += k[0]*fyi+toJ*ry;
+        wz += k[0]*fzi+toJ*rz+k[2]*ri+k[4]*fzi;
         vx += ux;
         vy += uy;
         vz += uz;

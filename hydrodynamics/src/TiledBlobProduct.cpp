@@ -111,6 +111,13 @@ double TiledBlobProduct::powerOfTwoAbove(const double* values, int count) {
     return std::ldexp(1.0, exponent);
 }
 
+bool TiledBlobProduct::radiiFitSinglePrecision(const double* radii, int count) {
+    if (count == 0)
+        return true;
+    const auto span = std::minmax_element(radii, radii+count);
+    return *span.first*MaxSingleRadiusRatio >= *span.second;
+}
+
 void TiledBlobProduct::setBlobs(const vector<Vec3>& positions, const vector<double>& radii) {
     wall = false;
     store(positions, radii);
@@ -163,10 +170,7 @@ void TiledBlobProduct::store(const vector<Vec3>& positions, const vector<double>
 }
 
 void TiledBlobProduct::fillSingleArrays() {
-    // Radii spanning more than MaxSingleRadiusRatio would take 1/r^3 of the closest pairs out of
-    // single precision's range.
-    const auto span = std::minmax_element(radius.begin(), radius.begin()+numBlobs);
-    single = singleRequested && (numBlobs == 0 || *span.first*MaxSingleRadiusRatio >= *span.second);
+    single = singleRequested && radiiFitSinglePrecision(radius.data(), numBlobs);
     for (auto copy : {std::make_pair(&radius, &singleRadius), std::make_pair(&radius2, &singleRadius2), std::make_pair(&z, &singleHeight)}) {
         copy.second->assign(single ? copy.first->size() : 0, 0.0f);
         for (int i = 0; i < (int) copy.second->size(); i++)

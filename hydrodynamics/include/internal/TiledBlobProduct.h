@@ -72,6 +72,12 @@ public:
     /** The widest span of radii (largest over smallest) that single precision takes. */
     static constexpr double MaxSingleRadiusRatio = 1000;
     /**
+     * Whether radii span at most MaxSingleRadiusRatio (and so single-precision pair terms hold them:
+     * wider, 1/r^3 of the closest pairs would leave float's range); true for none. CommonBlobMobility's
+     * device kernel takes the same rule.
+     */
+    static bool radiiFitSinglePrecision(const double* radii, int count);
+    /**
      * The power of two nearest above the largest magnitude in values (1 if none is positive and
      * finite): lengths and forces in units of it (an exact scaling) keep single-precision pair terms
      * well inside float's range (CommonBlobMobility's device kernel uses it too).

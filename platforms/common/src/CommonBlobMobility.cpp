@@ -37,13 +37,12 @@ void CommonBlobMobility::bindProductKernel() {
             sumKernel->addArg(velocity);
         }
     }
-    kernel = product;
-    kernel->setArg(0, numBlobs);
-    kernel->setArg(1, numParts);
-    kernel->setArg(2, tilesPerPart);
-    kernel->setArg(3, lengthScale);
+    product->setArg(0, numBlobs);
+    product->setArg(1, numParts);
+    product->setArg(2, tilesPerPart);
+    product->setArg(3, lengthScale);
     // With one part the kernel writes the velocity itself and the sum is skipped.
-    kernel->setArg(7, numParts == 1 ? velocity : parts);
+    product->setArg(7, numParts == 1 ? velocity : parts);
     sumKernel->setArg(0, numBlobs);
     sumKernel->setArg(1, numParts);
 }
@@ -80,10 +79,7 @@ void CommonBlobMobility::setBlobs(const vector<Vec3>& positions, const vector<do
         velocity.resize(3*size);
         parts.resize(3*size*numParts);
     }
-    // Radii spanning more than TiledBlobProduct::MaxSingleRadiusRatio would take 1/r^3 of the
-    // closest pairs out of single precision's range, as on the host.
-    const auto span = std::minmax_element(radii.begin(), radii.end());
-    single = singleRequested && (numBlobs == 0 || *span.first*TiledBlobProduct::MaxSingleRadiusRatio >= *span.second);
+    single = singleRequested && TiledBlobProduct::radiiFitSinglePrecision(radii.data(), numBlobs);
     lengthScale = (single ? TiledBlobProduct::powerOfTwoAbove(radii.data(), numBlobs) : 1.0);
     bindProductKernel();
     vector<double> packed(4*size, 0.0);
@@ -118,9 +114,10 @@ void CommonBlobMobility::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out
     ContextSelector selector(cc);
     force.upload(f.data());
     // Forces in units of a power of two near the largest (an exact scaling) for single precision's range.
-    kernel->setArg(4, single ? TiledBlobProduct::powerOfTwoAbove(f.data(), f.size()) : 1.0);
+    ComputeKernel& product = kernels[single ? 1 : 0];
+    product->setArg(4, single ? TiledBlobProduct::powerOfTwoAbove(f.data(), f.size()) : 1.0);
     const int numTiles = (numBlobs+TileSize-1)/TileSize;
-    kernel->execute(numTiles*numParts*TileSize, TileSize);
+    product->execute(numTiles*numParts*TileSize, TileSize);
     if (numParts > 1)
         sumKernel->execute(3*numBlobs);
     velocity.download(out.data());

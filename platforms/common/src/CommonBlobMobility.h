@@ -51,13 +51,13 @@ public:
     static const int MinWorkGroups = 16;
 private:
     OpenMM::ComputeContext& cc;
-    OpenMM::ComputeKernel kernels[2];  ///< the product with the pair terms in double, in single (compiled when first used)
-    OpenMM::ComputeKernel kernel, sumKernel;  ///< the product in use; the parts' sum
+    OpenMM::ComputeKernel kernels[2];  ///< the product with the pair terms in double, in single (compiled when first used; in use: kernels[single])
+    OpenMM::ComputeKernel sumKernel;   ///< the parts' sum
     OpenMM::ComputeArray blobs, force, velocity, parts;
     int numBlobs, numParts, tilesPerPart;
     bool periodic, wall, singleRequested, single;
     double lengthScale;  ///< the unit of the pair terms' lengths (1 in double)
-    /** kernel = the product in single's precision (compiled if first used), bound to these blobs (the force's scale is set by each product). */
+    /** The product in single's precision (compiled if first used), bound to these blobs (the force's scale is set by each product). */
     void bindProductKernel();
     HostBlobMobility onHost;  ///< the products in a periodic box or above a wall
 };
