@@ -225,6 +225,18 @@ struct PlatformConfigName {
     }
 };
 
+/**
+ * An integrator of class Base that shows a test its Context's ContextImpl (Integrator::context is
+ * protected), for the tests that read a platform's own arrays or run its kernels' parts directly.
+ */
+template <class Base> class WithContextImpl : public Base {
+public:
+    using Base::Base;
+    OpenMM::ContextImpl& contextImpl() {
+        return *this->context;
+    }
+};
+
 /** A Context on a platform in its precision. */
 OpenMM::Context* createContext(OpenMM::System& system, OpenMM::Integrator& integrator, const PlatformConfig& config);
 

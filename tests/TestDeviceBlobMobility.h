@@ -25,15 +25,6 @@ ComputeContext& computeContextOf(ContextImpl& context);
 
 namespace {
 
-/** A VerletIntegrator that shows the test its ContextImpl (Integrator::context is protected). */
-class VerletWithContext : public VerletIntegrator {
-public:
-    using VerletIntegrator::VerletIntegrator;
-    ContextImpl& contextImpl() {
-        return *context;
-    }
-};
-
 /** 150 blobs (three tiles of 64, the last partly filled) in a 2 nm cube 5000 nm from the origin,
  *  radii from 0.1 to 0.1 x span, some overlapping, one inside another. */
 void someBlobs(double span, std::vector<Vec3>& positions, std::vector<double>& radii) {
@@ -69,7 +60,7 @@ class DeviceBlobMobility : public testing::TestWithParam<PlatformConfig> {
 TEST_P(DeviceBlobMobility, PairTermsInTheTolerancesPrecision) {
     System system;
     system.addParticle(1.0);
-    VerletWithContext integrator(0.001);
+    WithContextImpl<VerletIntegrator> integrator(0.001);
     std::unique_ptr<Context> context(createContext(system, integrator, GetParam()));
     CommonBlobMobility device(computeContextOf(integrator.contextImpl()), "DeviceBlobMobilityTest");
     std::vector<Vec3> positions;

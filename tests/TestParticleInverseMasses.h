@@ -44,15 +44,6 @@ std::vector<double> inverseMassesIn(ComputeContext& cc) {
     return w;
 }
 
-/** A RigidLangevinIntegrator that shows the test its ContextImpl (Integrator::context is protected). */
-class IntegratorWithContext : public RigidLangevinIntegrator {
-public:
-    using RigidLangevinIntegrator::RigidLangevinIntegrator;
-    ContextImpl& contextImpl() {
-        return *context;
-    }
-};
-
 } // namespace
 
 class ParticleInverseMasses : public testing::TestWithParam<PlatformConfig> {
@@ -64,7 +55,7 @@ TEST_P(ParticleInverseMasses, StayWhatOpenMMSet) {
     System system;
     NonbondedForce* nonbonded = new NonbondedForce();
     system.addForce(nonbonded);
-    IntegratorWithContext integrator(300, 0.01, 0.002);
+    WithContextImpl<RigidLangevinIntegrator> integrator(300, 0.01, 0.002);
     integrator.setRandomNumberSeed(3);
     std::vector<Vec3> positions;
     auto add = [&] (double mass, Vec3 position, double charge) {

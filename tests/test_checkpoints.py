@@ -84,35 +84,38 @@ def test_checkpoint_of_the_previous_format_is_read():
         context.loadCheckpoint(old[:start]+np.int32(2).tobytes()+old[start+4:])
 
 
+def triatomics(count, make_context):
+    """count free triatomic bodies (the default bead model, radii 0.15 nm) on a grid 1 nm apart, in a
+    new Context from make_context(system, integrator) at their starting positions: (context, integrator)."""
+    import rigidlangevin as rl
+    system, positions = mm.System(), []
+    integrator = rl.RigidLangevinIntegrator(300, 0.89*rl.centipoise, 0.002)
+    integrator.setRandomNumberSeed(29)
+    for b in range(count):
+        origin = np.array([1.0*(b % 16), 1.0*(b//16), 0.0])
+        members = [system.addParticle(mass) for mass in (16.0, 1.0, 1.0)]
+        positions += [origin, origin+[0.1, 0, 0], origin+[-0.03, 0.095, 0]]
+        integrator.addRigidBody(members)
+        for p in members:
+            integrator.setParticleRadius(p, 0.15)
+    context = make_context(system, integrator)
+    context.setPositions(positions)
+    return context, integrator
+
+
 def test_cpu_checkpoint_continues_alike_on_any_number_of_threads():
     # The CPU platform draws each chunk of bodies' normals from a stream of its own, as many streams
     # as chunks whatever the number of threads (a trajectory does not depend on them): a checkpoint
     # written by a Context on two threads, loaded into one on one thread, continues exactly as the
     # two-thread run does. 256 free triatomic bodies, enough for the step to use its threads.
-    import rigidlangevin as rl
-    system, positions = mm.System(), []
-    for b in range(256):
-        origin = np.array([1.0*(b % 16), 1.0*(b//16), 0.0])
-        for mass in (16.0, 1.0, 1.0):
-            system.addParticle(mass)
-        positions += [origin, origin+[0.1, 0, 0], origin+[-0.03, 0.095, 0]]
-
-    def context(threads):
-        integrator = rl.RigidLangevinIntegrator(300, 0.89*rl.centipoise, 0.002)
-        integrator.setRandomNumberSeed(29)
-        for b in range(256):
-            integrator.addRigidBody([3*b, 3*b+1, 3*b+2])
-        for p in range(system.getNumParticles()):
-            integrator.setParticleRadius(p, 0.15)
-        c = mm.Context(system, integrator, mm.Platform.getPlatformByName('CPU'), {'Threads': str(threads)})
-        c.setPositions(positions)
-        return c, integrator
-    two, two_integrator = context(2)
+    def on_threads(threads):
+        return lambda system, integrator: mm.Context(system, integrator, mm.Platform.getPlatformByName('CPU'), {'Threads': str(threads)})
+    two, two_integrator = triatomics(256, on_threads(2))
     two.setVelocitiesToTemperature(300, 3)
     two_integrator.step(10)
     checkpoint = two.createCheckpoint()
     expected = positions_after(two, two_integrator, 10)
-    one, one_integrator = context(1)
+    one, one_integrator = triatomics(256, on_threads(1))
     one.loadCheckpoint(checkpoint)
     assert one.getPlatform().getPropertyValue(one, 'Threads') == '1'
     assert np.array_equal(positions_after(one, one_integrator, 10), expected)
@@ -126,26 +129,11 @@ def test_checkpoint_continues_exactly_whichever_way_a_fresh_context_fits_the_bod
     # the turned frame, and runs loaded after 6 or 26 of the first 30 steps (Reference; 13 to 15, 22,
     # 25 and 26 on the CPU platform) continued with other friction and other random numbers: every
     # one of them must continue exactly.
-    import rigidlangevin as rl
-    system = mm.System()
-    for mass in (16.0, 1.0, 1.0):
-        system.addParticle(mass)
-    positions = [mm.Vec3(0, 0, 0), mm.Vec3(0.1, 0, 0), mm.Vec3(-0.03, 0.095, 0)]
-
-    def context():
-        integrator = rl.RigidLangevinIntegrator(300, 0.89*rl.centipoise, 0.002)
-        integrator.setRandomNumberSeed(29)
-        integrator.addRigidBody([0, 1, 2])
-        for p in range(3):
-            integrator.setParticleRadius(p, 0.15)
-        c = platform.context(system, integrator)
-        c.setPositions(positions)
-        return c, integrator
-    run, run_integrator = context()
+    run, run_integrator = triatomics(1, platform.context)
     run.setVelocitiesToTemperature(300, 3)
     for steps in range(30):
         checkpoint = run.createCheckpoint()
-        fresh, fresh_integrator = context()
+        fresh, fresh_integrator = triatomics(1, platform.context)
         fresh.loadCheckpoint(checkpoint)
         expected = positions_after(run, run_integrator, 3)
         assert np.array_equal(positions_after(fresh, fresh_integrator, 3), expected), f'loaded after {steps} steps'
