@@ -1,7 +1,7 @@
 #include "internal/PositivelySplitEwald.h"
-#include "PseParameters.h"
-#include "PseRealSpace.h"
-#include "PseWaveSpace.h"
+#include "internal/PseParameters.h"
+#include "internal/PseRealSpace.h"
+#include "internal/PseWaveSpace.h"
 #include "openmm/OpenMMException.h"
 #include <algorithm>
 #include <cmath>
@@ -170,4 +170,18 @@ long long PositivelySplitEwald::getNumPairs() const {
 
 double PositivelySplitEwald::getMemoryBytes() const {
     return memoryBytes;
+}
+
+const PseParameters& PositivelySplitEwald::getParameters() const {
+    if (numBlobs == 0)
+        throw OpenMMException("PositivelySplitEwald: getParameters() before setBlobs() with blobs");
+    return *parameters;
+}
+
+const PseRealSpace& PositivelySplitEwald::getRealSpace() const {
+    return *real;
+}
+
+const PseWaveSpace& PositivelySplitEwald::getWaveSpace() const {
+    return *wave;
 }

@@ -1,4 +1,4 @@
-#include "PseFft.h"
+#include "internal/PseFft.h"
 #define POCKETFFT_NO_MULTITHREADING
 #include "pocketfft_hdronly.h"
 

@@ -1,4 +1,4 @@
-#include "PseGaussianGrid.h"
+#include "internal/PseGaussianGrid.h"
 #include <algorithm>
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "PseParameters.h"
+#include "internal/PseParameters.h"
 #include "openmm/OpenMMException.h"
 #include <algorithm>
 #include <cmath>

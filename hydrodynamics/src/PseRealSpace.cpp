@@ -1,4 +1,4 @@
-#include "PseRealSpace.h"
+#include "internal/PseRealSpace.h"
 #include <algorithm>
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "PseSmoothPartTable.h"
+#include "internal/PseSmoothPartTable.h"
 #include "internal/HasimotoSplit.h"
 #include "internal/RotnePragerYamakawa.h"
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "PseWaveSpace.h"
+#include "internal/PseWaveSpace.h"
 #include "internal/HasimotoSplit.h"
 #include <algorithm>
 #include <cmath>

@@ -253,9 +253,10 @@ public:
      * SpectralSolver's products where it is matrix-free and there are at least 500 blobs or the
      * tolerance is 1e-5 or looser (where they are the faster on the CPU:
      * benchmarks/platforms/periodic_hydrodynamics.py); KrylovSolver's dense Ewald sum (72 B^2 bytes
-     * for B blobs) is refused beyond setHydrodynamicMemoryBudget(). The spectral products are
-     * computed on the host on every platform (on OpenCL and CUDA too; a device FFT path is not
-     * there yet). (The environment
+     * for B blobs) is refused beyond setHydrodynamicMemoryBudget(). On OpenCL and CUDA the
+     * spectral products run on the device (OpenMM's FFTs), in the context's precision where that
+     * reaches the tolerance (float, in single and mixed precision, from 1e-5) and otherwise on the
+     * host; their parameters and real-space pairs are prepared on the host once a step. (The environment
      * variable RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER, dense, krylov or spectral, overrides it on every
      * platform but Reference; it is there for the tests, which run each path on small systems.)
      */

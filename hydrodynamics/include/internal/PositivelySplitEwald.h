@@ -115,6 +115,10 @@ public:
     long long getNumPairs() const;
     /** The bytes the last setBlobs() holds. */
     double getMemoryBytes() const;
+    /** The parts of the operator, for a device that applies the same one (CommonPseMobility); after setBlobs(). */
+    const PseParameters& getParameters() const;
+    const PseRealSpace& getRealSpace() const;
+    const PseWaveSpace& getWaveSpace() const;
 private:
     void checkBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors) const;
     void checkSize(const Eigen::VectorXd& f) const;

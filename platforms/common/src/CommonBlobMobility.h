@@ -20,8 +20,7 @@ namespace RigidLangevinPlugin {
  * the host (HydrodynamicInteractions::krylovFrictionStep), as on the CPU, so that every platform
  * takes the same Krylov steps. In a periodic box and above a wall the products are the host's
  * (HostBlobMobility: the Ewald-summed M formed once per step, or Rotne-Prager-Blake's on the host's
- * threads; the spectral solver's, SpectralBlobMobility, are the kernel base's and never reach
- * this class: a device FFT path, OpenMM's createFFT, is not there yet); the device kernel is for
+ * threads; the spectral solver's are CommonPseMobility's, on the device); the device kernel is for
  * an unbounded solvent. Throws an
  * OpenMMException, begun with the integrator's class name, if the device has no double precision.
  */

@@ -523,6 +523,11 @@ BlobMobility& CommonIntegrateRigidLangevinStepKernel::blobMobility() {
     return *deviceMobility;
 }
 
+SpectralBlobMobility* CommonIntegrateRigidLangevinStepKernel::createSpectralMobility(const std::string& integratorName,
+                                                                                const KrylovSolvers::ParallelFor& parallel) {
+    return new CommonPseMobility(cc, integratorName, parallel);
+}
+
 void CommonIntegrateRigidLangevinStepKernel::finishHostStep(ContextImpl& /*context*/, double h) {
     // The step kernels placed the bodies' sites with their bodies; OpenMM's kernel, which places
     // every site from its parents, is for sites outside bodies.

@@ -2,6 +2,7 @@
 #define COMMON_RIGID_LANGEVIN_KERNELS_H_
 
 #include "CommonBlobMobility.h"
+#include "CommonPseMobility.h"
 #include "internal/RigidLangevinStepKernelBase.h"
 #include "openmm/common/ComputeArray.h"
 #include "openmm/common/ComputeContext.h"
@@ -58,6 +59,8 @@ protected:
     std::function<double ()> hostNormals();
     /** The device's products of the blobs' mobility (CommonBlobMobility). */
     BlobMobility& blobMobility();
+    /** The spectral solver's products on the device (CommonPseMobility). */
+    SpectralBlobMobility* createSpectralMobility(const std::string& integratorName, const KrylovSolvers::ParallelFor& parallel);
     void finishHostStep(OpenMM::ContextImpl& context, double h);
 private:
     std::unique_ptr<CommonBlobMobility> deviceMobility;

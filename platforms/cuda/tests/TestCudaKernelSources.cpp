@@ -1,7 +1,8 @@
 /*
  * The common platforms' device source compiles for CUDA, in every precision, exactly as the CUDA
  * platform would compile it (StickyDipoleForce's pair term inside a stand-in for OpenMM's
- * nonbonded kernel, which declares what that kernel gives it; the blobs' mobility kernel of hydrodynamic interactions): OpenMM's own CUDA prelude (CudaKernelSources::common and vectorOps,
+ * nonbonded kernel, which declares what that kernel gives it; the blobs' mobility kernels of hydrodynamic interactions, tiled
+ * and positively split Ewald): OpenMM's own CUDA prelude (CudaKernelSources::common and vectorOps,
  * read from libOpenMMCUDA), the precision's types, the plugin's definitions and source, through
  * NVRTC. NVRTC needs no GPU, so this runs wherever the CUDA toolkit is installed; the tests that
  * run the CUDA platform (the other runners in this directory) need a GPU.
@@ -113,6 +114,8 @@ std::string compositeSource(const CudaPrelude& prelude, const std::string& preci
     // The blobs' product with its pair terms in single precision (CommonBlobMobility at loose
     // tolerances) in the single-precision composite, in double in the others.
     src << "#define BLOB_TILE 64\n#define PAIR_SINGLE " << (precision == "single" ? 1 : 0) << "\n" << CommonRigidLangevinKernelSources::blobMobility << "\n";
+    // The positively split Ewald product (CommonPseMobility), its real-space pairs in double in the double composite.
+    src << "#define PSE_DOUBLE_PAIRS " << (precision == "double" ? 1 : 0) << "\n" << CommonRigidLangevinKernelSources::pseMobility << "\n";
     return src.str();
 }
 

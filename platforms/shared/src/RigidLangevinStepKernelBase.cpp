@@ -140,7 +140,7 @@ BlobMobility& RigidLangevinStepKernelBase::stepMobility(const RigidBodyIntegrato
     BlobMobility* mobility = &platformMobility;
     if (solve.spectral) {
         if (!spectralMobility)
-            spectralMobility.reset(new SpectralBlobMobility(integratorName(integrator),
+            spectralMobility.reset(createSpectralMobility(integratorName(integrator),
                     [this] (int count, const std::function<void (int, int)>& task) { parallelFor(count, task); }));
         spectralMobility->setMemoryBudget(integrator.getHydrodynamicMemoryBudget());
         mobility = spectralMobility.get();

@@ -84,6 +84,10 @@ protected:
     virtual std::function<double ()> hostNormals() = 0;
     /** This platform's products of the blobs' mobility (on the host or a device). */
     virtual BlobMobility& blobMobility() = 0;
+    /** The spectral solver's products for this platform: the host's positively split Ewald (SpectralBlobMobility) unless it has its own. */
+    virtual SpectralBlobMobility* createSpectralMobility(const std::string& integratorName, const KrylovSolvers::ParallelFor& parallel) {
+        return new SpectralBlobMobility(integratorName, parallel);
+    }
     /** Run task over [0, count) in ranges, on the platform's threads where it has them. */
     virtual void parallelFor(int count, const std::function<void (int, int)>& task) {
         task(0, count);

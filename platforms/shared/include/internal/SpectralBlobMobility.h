@@ -13,8 +13,8 @@ namespace RigidLangevinPlugin {
 /**
  * The blobs' mobility products of the integrators' SpectralSolver in a periodic box: the positively
  * split Ewald sum (PositivelySplitEwald: matrix-free, linear cost and memory), on the host, on the
- * threads the platform gives, for every platform (OpenCL and CUDA too: a device FFT path is not
- * there yet). Its tolerance epsilon is the integrator's hydrodynamic tolerance: the product's
+ * threads the platform gives (the kernel base's createSpectralMobility(); OpenCL and CUDA derive
+ * CommonPseMobility from this class, which runs the products on the device). Its tolerance epsilon is the integrator's hydrodynamic tolerance: the product's
  * error, at most 0.3 epsilon of |M f| (TestPositivelySplitEwald), then stays below the relative
  * residual at which the Krylov solves stop, and the solves converge on the PSE operator (linear,
  * symmetric, positive definite) as on the dense one. A tolerance below

@@ -1,9 +1,9 @@
 #ifndef RIGID_LANGEVIN_PSE_WAVE_SPACE_H_
 #define RIGID_LANGEVIN_PSE_WAVE_SPACE_H_
 
-#include "PseFft.h"
-#include "PseGaussianGrid.h"
-#include "PseParameters.h"
+#include "internal/PseFft.h"
+#include "internal/PseGaussianGrid.h"
+#include "internal/PseParameters.h"
 #include <functional>
 #include <vector>
 
@@ -38,6 +38,23 @@ public:
     void sampleNoise(const std::function<double()>& normal, Eigen::VectorXd& out, const ParallelFor& parallel);
     /** 3 (N' - 1), N' the grid's points off the Nyquist planes: 6 per independent mode. */
     long long getNumNormals() const;
+    // What a device needs to apply the same operator (CommonPseMobility), after setBlobs():
+    const PseGaussianGrid& getGaussians() const {
+        return gaussians;
+    }
+    /** Per mode of the half spectrum (M0 x M1 x (M2/2 + 1), the last fastest), D(k) without the
+     *  projection; with one radius group times sinc(k a)^2; 0 for the modes left out. */
+    const std::vector<double>& getFactors() const {
+        return factor;
+    }
+    /** With several radius groups, sinc(k a_g) per group, then per mode as getFactors(). */
+    const std::vector<double>& getSincs() const {
+        return sincs;
+    }
+    /** The reciprocal box vectors times 2 pi: mode (i0, i1, i2) has k = sum_d n_d reciprocal_d, n_d its signed frequency. */
+    const OpenMM::Vec3& getReciprocal(int d) const {
+        return reciprocal[d];
+    }
 private:
     /** The mode (i0, i1, i2) of the half spectrum: its wave vector, and false for k = 0 or a Nyquist plane. */
     bool waveVector(int i0, int i1, int i2, OpenMM::Vec3& k) const;

@@ -1,7 +1,7 @@
 #ifndef RIGID_LANGEVIN_PSE_GAUSSIAN_GRID_H_
 #define RIGID_LANGEVIN_PSE_GAUSSIAN_GRID_H_
 
-#include "PseParameters.h"
+#include "internal/PseParameters.h"
 #include "internal/KrylovSolvers.h"
 #include "openmm/Vec3.h"
 #include <Eigen/Core>
@@ -34,6 +34,26 @@ public:
     void spread(const Eigen::VectorXd& f, int g, double* grid, const ParallelFor& parallel) const;
     /** out_i = sum_m g(x_m - r_i) grid_m for each blob i of group g (others untouched). */
     void interpolate(const double* grid, int g, Eigen::VectorXd& out, const ParallelFor& parallel) const;
+    // What a device needs to spread and interpolate alike (CommonPseMobility), after setBlobs():
+    /** Per blob, its support's first grid index along each axis (wrapped). */
+    const std::vector<int>& getBase() const {
+        return base;
+    }
+    /** Per blob, P factors along each axis (the Gaussian's constant in the first axis's). */
+    const std::vector<double>& getFactors() const {
+        return factors;
+    }
+    /** P^3 factors shared by all blobs, (n0 P + n1) P + n2; empty in a rectangular box (all ones). */
+    std::vector<double> getCrossFactors() const {
+        return (orthogonal ? std::vector<double>() : cross);
+    }
+    /** The blobs of group g are getGroupBlobs()[getGroupStart()[g] ... getGroupStart()[g+1]). */
+    const std::vector<int>& getGroupStart() const {
+        return groupStart;
+    }
+    const std::vector<int>& getGroupBlobs() const {
+        return groupBlobs;
+    }
 private:
     void blobWeights(const OpenMM::Vec3& position, const OpenMM::Vec3 box[3], const OpenMM::Vec3 inverse[3], int i);
     /** Blob i's factors, first grid point and the grid, for the per-blob loops. */

@@ -1,8 +1,8 @@
 #ifndef RIGID_LANGEVIN_PSE_REAL_SPACE_H_
 #define RIGID_LANGEVIN_PSE_REAL_SPACE_H_
 
-#include "PseParameters.h"
-#include "PseSmoothPartTable.h"
+#include "internal/PseParameters.h"
+#include "internal/PseSmoothPartTable.h"
 #include "internal/KrylovSolvers.h"
 #include "openmm/Vec3.h"
 #include <Eigen/Core>
@@ -37,13 +37,31 @@ public:
     long long getNumPairs() const {
         return rowStart.empty() ? 0 : rowStart.back();
     }
-private:
     /** A pair's terms, in single or double precision (PseParameterChoice::singlePrecisionPairs). */
     template <class Real>
     struct Pair {
         int j;                              // in the cells' order
         Real isotropic, dyadicPerR2, d[3];  // F = isotropic I + dyadicPerR2 d d^T, d = r_j - r_i
     };
+    // What a device needs to apply the same operator (CommonPseMobility), after setBlobs(): row i
+    // (the blob order[i]) is self[i] I plus its pairs rowStart[i] ... rowStart[i+1], stored in
+    // single precision (getSinglePairs() filled) or double (getDoublePairs()).
+    const std::vector<int>& getOrder() const {
+        return order;
+    }
+    const std::vector<double>& getSelf() const {
+        return self;
+    }
+    const std::vector<long long>& getRowStart() const {
+        return rowStart;
+    }
+    const std::vector<Pair<float>>& getSinglePairs() const {
+        return singlePairs;
+    }
+    const std::vector<Pair<double>>& getDoublePairs() const {
+        return doublePairs;
+    }
+private:
     template <class Real>
     void storePairs(std::vector<Pair<Real>>& pairs, const ParallelFor& parallel);
     template <class Real>
