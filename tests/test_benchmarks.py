@@ -349,7 +349,7 @@ def test_hydrodynamic_interactions_benchmark_runs_each_solver(tmp_path, monkeypa
 def test_periodic_hydrodynamics_benchmark_times_both_periodic_products(tmp_path, monkeypatch):
     """benchmarks/platforms/periodic_hydrodynamics.py: its scene is a periodic cube of non-overlapping
     spheres at the volume fraction it names, and one small measurement times the spectral and the
-    dense Ewald steps, each against the same spheres without interactions."""
+    dense Ewald steps, each against the same spheres without interactions, on the CPU and on OpenCL."""
     sys.path.insert(0, str(ROOT/'benchmarks'/'platforms'))
     import benchmark_utils
     import periodic_hydrodynamics as bench
@@ -366,6 +366,10 @@ def test_periodic_hydrodynamics_benchmark_times_both_periodic_products(tmp_path,
     assert all(float(r['ms_per_step']) > 0 for r in rows) and float(rows[1]['speedup_over_dense']) > 0
     assert rows[1]['friction_cg'] > 0 and rows[2]['friction_cg'] > 0
     assert 'RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER' not in bench.os.environ
+    # On OpenCL (the device's spectral products): its rows, no memory probe, the products' rate.
+    rows = bench.measure(100, 1e-3, pairs=2, max_dense_blobs=0, platform='OpenCL', properties={'Precision': 'double'})
+    assert [(r['platform'], r['solver']) for r in rows] == [('OpenCL', 'off'), ('OpenCL', 'spectral')]
+    assert rows[1]['peak_mib'] == '' and float(rows[1]['blob_products_per_s']) > 0
 
 
 def test_colloid_study_appends_to_the_same_records_as_one_run(tmp_path):

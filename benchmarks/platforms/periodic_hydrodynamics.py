@@ -3,7 +3,7 @@ Ewald products, linear cost) against the matrix-free step with the dense Ewald s
 
 Single spheres (one blob of radius 1 nm each) at random without overlap at 5% volume fraction in a
 periodic cube, no forces (a periodic force of zero makes the System periodic), 300 K in water
-(0.89 cP), BAOAB with a 2 fs step, on the CPU platform. Each size is timed without interactions and
+(0.89 cP), BAOAB with a 2 fs step, on the CPU platform (or --platform). Each size is timed without interactions and
 with them, matrix-free with the spectral products ('spectral', SpectralSolver) and, up to
 --max-dense-blobs, with the dense Ewald sum formed every step ('dense Ewald', KrylovSolver), in
 alternating pairs of blocks in one run (benchmark_utils.paired_times; the solver chosen with
@@ -12,8 +12,15 @@ tolerance and the PSE's epsilon).
 
     python benchmarks/platforms/periodic_hydrodynamics.py [--quick] [--sizes 100 300 1000 3000 10000]
         [--tolerances 1e-3 1e-6] [--max-dense-blobs 1000] [--pairs 2] [--name periodic_hydrodynamics] [--replot]
+        [--platform CPU] [--precision mixed]
 
-Memory: each mode runs once more in a child process of its own (--memory-probe: the scene, the
+On OpenCL and CUDA the spectral products run on the device (CommonPseMobility: OpenMM's FFTs; in
+single and mixed precision from tolerance 1e-5 up, tighter on the host), the Krylov iterations on
+the host. 'blob products/s' is the spectral step's lower bound on the products' rate: blobs times
+the step's Krylov iterations (each one product) over its whole time, the host's preparation once a
+step (parameters, real-space pairs) and everything else in the step included.
+
+Memory (CPU platform only; on the others the column is empty): each mode runs once more in a child process of its own (--memory-probe: the scene, the
 Context, one step); 'peak MiB' is that process's peak resident set (Linux VmHWM) above the peak of
 the same probe without interactions (the PSE's grid and pairs, or the dense sum, and the solves'
 vectors). Writes results/<name>.csv and .png: ms per step (mean of the pairs +- its
@@ -35,13 +42,13 @@ import openmm.unit as unit
 
 import rigidlangevin as rl
 import benchmark_utils
-from benchmark_utils import mean_and_error, paired_times, running_context, save_plot, write_table
+from benchmark_utils import mean_and_error, paired_times, platform_properties, platform_status, running_context, save_plot, write_table
 
 STEP_PS = 0.002
 RADIUS = 1.0
 MODES = {'off': None, 'spectral': 'spectral', 'dense Ewald': 'krylov'}
-COLUMNS = ['blobs', 'tolerance', 'solver', 'ms_per_step', 'ms_error', 'ratio_to_off', 'ratio_error', 'speedup_over_dense',
-           'speedup_error', 'peak_mib', 'lanczos', 'noise_cg', 'friction_cg']
+COLUMNS = ['platform', 'blobs', 'tolerance', 'solver', 'ms_per_step', 'ms_error', 'ratio_to_off', 'ratio_error', 'speedup_over_dense',
+           'speedup_error', 'peak_mib', 'lanczos', 'noise_cg', 'friction_cg', 'blob_products_per_s']
 
 
 def scene(count, volume_fraction=0.05, seed=1):
@@ -118,8 +125,8 @@ def solver(name):
     return set_environment
 
 
-def measure(count, tolerance, pairs, max_dense_blobs):
-    """The rows of one size and tolerance."""
+def measure(count, tolerance, pairs, max_dense_blobs, platform='CPU', properties=None):
+    """The rows of one size and tolerance on the platform (with its Context properties)."""
     system, make_integrator, positions = scene(count)
     modes = [m for m in MODES if m != 'dense Ewald' or count <= max_dense_blobs]
     contexts, prepare = {}, {}
@@ -127,19 +134,22 @@ def measure(count, tolerance, pairs, max_dense_blobs):
         prepare[mode] = solver(MODES[mode])
         prepare[mode]()
         integrator = make_integrator(mode != 'off', tolerance)
-        contexts[mode] = (integrator, running_context(system, integrator, positions, 'CPU', {}, warmup_steps=1))
+        contexts[mode] = (integrator, running_context(system, integrator, positions, platform, properties or {}, warmup_steps=1))
     times = paired_times(contexts, 1, pairs=pairs, prepare=prepare)
     os.environ.pop('RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER', None)
-    peak = {mode: probed_peak_mib(count, tolerance, mode) for mode in modes}
+    peak = {mode: probed_peak_mib(count, tolerance, mode) for mode in modes} if platform == 'CPU' else None
     rows = []
     for mode in modes:
         integrator = contexts[mode][0]
         iterations = integrator.getKrylovIterations() if mode != 'off' else ['', '', '']
         mean, error = mean_and_error(np.array(times[mode])*1e3)
         ratio, ratio_error = mean_and_error(np.array(times[mode])/np.array(times['off']))
-        row = {'blobs': count, 'tolerance': f'{tolerance:g}', 'solver': mode, 'ms_per_step': f'{mean:.4g}', 'ms_error': f'{error:.2g}',
-               'ratio_to_off': f'{ratio:.4g}', 'ratio_error': f'{ratio_error:.2g}', 'peak_mib': f'{peak[mode]-peak["off"]:.4g}',
-               'lanczos': iterations[0], 'noise_cg': iterations[1], 'friction_cg': iterations[2]}
+        row = {'platform': platform, 'blobs': count, 'tolerance': f'{tolerance:g}', 'solver': mode, 'ms_per_step': f'{mean:.4g}',
+               'ms_error': f'{error:.2g}', 'ratio_to_off': f'{ratio:.4g}', 'ratio_error': f'{ratio_error:.2g}',
+               'peak_mib': f'{peak[mode]-peak["off"]:.4g}' if peak else '', 'lanczos': iterations[0], 'noise_cg': iterations[1],
+               'friction_cg': iterations[2]}
+        if mode == 'spectral':
+            row['blob_products_per_s'] = f'{count*sum(iterations)/(mean/1e3):.3g}'
         if mode == 'spectral' and 'dense Ewald' in times:
             speedup, speedup_error = mean_and_error(np.array(times['dense Ewald'])/np.array(times['spectral']))
             row.update(speedup_over_dense=f'{speedup:.4g}', speedup_error=f'{speedup_error:.2g}')
@@ -155,14 +165,15 @@ def plot(rows, name):
     fig, (time_axis, memory_axis) = plt.subplots(1, 2, figsize=(10, 4.5))
     for colour, tolerance in enumerate(sorted({r['tolerance'] for r in rows}, key=float)):
         for mode, marker, line in (('spectral', 'o', '-'), ('dense Ewald', 's', '--')):
-            points = sorted((int(r['blobs']), float(r['ms_per_step'])/1e3, float(r['ms_error'])/1e3, float(r['peak_mib']))
+            points = sorted((int(r['blobs']), float(r['ms_per_step'])/1e3, float(r['ms_error'])/1e3, float(r['peak_mib'] or 'nan'))
                             for r in rows if r['solver'] == mode and r['tolerance'] == tolerance)
             if points:
                 x, y, e, m = zip(*points)
                 style = dict(marker=marker, linestyle=line, color=f'C{colour}', label=f'{mode}, tolerance {tolerance}')
                 time_axis.errorbar(x, y, yerr=e, **style)
                 memory_axis.plot(x, m, **style)
-    for axis, label in ((time_axis, 's per step (CPU platform)'), (memory_axis, 'peak MiB above no interactions (a child process)')):
+    platform = rows[0].get('platform') or 'CPU'
+    for axis, label in ((time_axis, f's per step ({platform} platform)'), (memory_axis, 'peak MiB above no interactions (a child process)')):
         axis.set_xscale('log')
         axis.set_yscale('log')
         axis.set_xlabel('blobs (one-blob spheres, 5% volume fraction)')
@@ -184,6 +195,8 @@ def main():
     parser.add_argument('--pairs', type=int, default=2)
     parser.add_argument('--name', default='periodic_hydrodynamics')
     parser.add_argument('--replot', action='store_true', help='only draw results/<name>.png again from results/<name>.csv')
+    parser.add_argument('--platform', default='CPU', choices=('Reference', 'CPU', 'OpenCL', 'CUDA'))
+    parser.add_argument('--precision', default='mixed', choices=('single', 'mixed', 'double'), help='on OpenCL and CUDA')
     parser.add_argument('--memory-probe', nargs=3, metavar=('BLOBS', 'TOLERANCE', 'MODE'), help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.memory_probe:
@@ -193,6 +206,9 @@ def main():
         with open(os.path.join(benchmark_utils.RESULTS, args.name+'.csv'), encoding='utf-8') as f:
             plot(list(csv.DictReader(f)), args.name)
         return
+    status = platform_status(args.platform)
+    if status is not None:
+        parser.error(f'{args.platform}: {status}')
     if args.quick:
         args.sizes, args.tolerances, args.pairs = [100, 300], [1e-3], 2
     rows = []
@@ -200,7 +216,7 @@ def main():
         for tolerance in args.tolerances:
             print(f'{count} blobs at tolerance {tolerance:g}...', flush=True)
             start = time.perf_counter()
-            rows += measure(count, tolerance, args.pairs, args.max_dense_blobs)
+            rows += measure(count, tolerance, args.pairs, args.max_dense_blobs, args.platform, platform_properties(args.platform, args.precision))
             print(f'({time.perf_counter()-start:.0f} s)', flush=True)
             write_table(args.name, COLUMNS, rows)
     plot(rows, args.name)

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # On a GPU machine, from the repository's root, with .gpu/ packed by scripts/gpu/bundle.sh: installs
 # OpenMM's wheels and this build into /tmp, builds the Python extension for the machine's python3,
-# then runs the phases asked for (default: tests bench large), each under a time limit, writing
+# then runs the phases asked for (default: tests bench large pse), each under a time limit, writing
 # logs and tables to $OUT (default /tmp/out):
 #   tests  every CUDA and OpenCL C++ runner (the hydrodynamic-interaction runner split by test, and
 #          again with RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER=krylov), 8 at a time; pytest -k CUDA
 #   bench  benchmarks/platforms/hydrodynamic_interactions.py on CUDA (bodies of 1-12 blobs)
 #   large  the same, single spheres, 10^3 to 10^5
+#   pse    benchmarks/platforms/periodic_hydrodynamics.py on CUDA, mixed precision: the spectral step
+#          (its products on the device) at tolerance 1e-3, 10^3 to 10^5 blobs, with blob products/s
 #   banana the banana study's missing implicit replicas on CUDA (8 processes sharing the GPU) and
 #          explicit ones on the CPU platform (8 more, one core each: OpenMM's CUDA Gay-Berne kernel
 #          drops the scene's exceptions across the box's edge, banana_model.scene_context), for
@@ -16,11 +18,11 @@
 #          cat banana_runs.tar.gz.* | tar xz -C examples/results/banana_scene
 # A 2026-11-28 H200 took 220 s for tests (without the split), 90 s for bench, and 170 s reached 3e4 in large.
 #
-#   bash scripts/gpu/run.sh [tests] [bench] [large] [banana]
+#   bash scripts/gpu/run.sh [tests] [bench] [large] [pse] [banana]
 set -u
 R="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 G="$R/.gpu"; O="${OUT:-/tmp/out}"; mkdir -p "$O"
-PHASES="${*:-tests bench large}"
+PHASES="${*:-tests bench large pse}"
 exec > >(tee "$O/run.log") 2>&1
 echo "root: $R  phases: $PHASES"; date
 nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
@@ -87,6 +89,11 @@ if [[ " $PHASES " == *" large "* ]]; then
     timeout 200 $PY hydrodynamic_interactions.py --platform CUDA --large --max-dense-blobs 0 --sizes 1000 10000 30000 100000 \
         --name $TAG/hydrodynamic_interactions_large
     cp results/$TAG/hydrodynamic_interactions_large.* "$O/" 2>/dev/null
+fi
+if [[ " $PHASES " == *" pse "* ]]; then
+    timeout 200 $PY periodic_hydrodynamics.py --platform CUDA --precision mixed --sizes 1000 10000 100000 --tolerances 1e-3 \
+        --max-dense-blobs 0 --name $TAG/periodic_hydrodynamics
+    cp results/$TAG/periodic_hydrodynamics.* "$O/" 2>/dev/null
 fi
 if [[ " $PHASES " == *" banana "* ]]; then
     cd "$R"; S=examples/results/banana_scene; B="${BANANA_SECONDS:-480}"; start=$(date +%s); PIDS=""
