@@ -175,6 +175,7 @@ TEST_P(DevicePseMobility, SameProductAsTheHostsPse) {
     ComputeContext& cc = platform.cc();
     const Vec3 rectangular[3] = {Vec3(4.1, 0, 0), Vec3(0, 3.9, 0), Vec3(0, 0, 4.3)};
     const Vec3 triclinic[3] = {Vec3(4.1, 0, 0), Vec3(0.8, 3.9, 0), Vec3(-1.1, 1.3, 4.3)};
+    const Vec3 skewed[3] = {Vec3(4.1, 0, 0), Vec3(2.05, 3.9, 0), Vec3(-2.05, 1.95, 4.3)};
     if (GetParam().precision == "double") {
         comparePse(cc, 1e-8, {0.12}, triclinic, true, 1e-12, 0);
         comparePse(cc, 1e-8, {0.1, 0.15, 0.2}, rectangular, true, 1e-12, 0);
@@ -185,6 +186,9 @@ TEST_P(DevicePseMobility, SameProductAsTheHostsPse) {
         // The grid in float: within float's precision of the host's product, not to round-off.
         comparePse(cc, 1e-3, {0.12}, rectangular, true, 1e-6, 1e-9);
         comparePse(cc, 1e-4, {0.1, 0.15, 0.2}, triclinic, true, 1e-6, 1e-9);
+        comparePse(cc, 1e-5, {0.1}, triclinic, true, 1e-6, 1e-9);
+        // A box as skewed as OpenMM's reduced form allows: the Gaussians' shared factors reach 4.7e29, still in float's range.
+        comparePse(cc, 1e-5, {0.1}, skewed, true, 1e-6, 1e-9);
         // Tighter than float's FFTs reach: the host's products.
         comparePse(cc, 1e-7, {0.1, 0.15}, triclinic, false, 1e-15, 0);
     }

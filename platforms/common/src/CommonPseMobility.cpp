@@ -56,6 +56,19 @@ vector<char> asReal(const vector<double>& values, bool useDouble) {
     return bytes;
 }
 
+/**
+ * Whether the Gaussians' factors hold in float: in a triclinic box the shared factors (n0, n1, n2)
+ * grow as exp(|h_d . h_e| n_d n_e/sigma^2) and the per-axis factors shrink to compensate. The most
+ * skewed box of OpenMM's reduced form at tolerance 1e-5 (the tightest float takes) reached 4.7e29
+ * and its products stayed within 1e-6 of the host's (TestOpenCLDeviceBlobMobility); beyond
+ * MaxSingleCrossFactor float's range (3.4e38) comes near.
+ */
+bool fitsSinglePrecision(const PseGaussianGrid& gaussians) {
+    const double MaxSingleCrossFactor = 1e30;
+    const vector<double> cross = gaussians.getCrossFactors();
+    return cross.empty() || *std::max_element(cross.begin(), cross.end()) <= MaxSingleCrossFactor;
+}
+
 } // namespace
 
 CommonPseMobility::CommonPseMobility(ComputeContext& cc, const std::string& integratorName, const KrylovSolvers::ParallelFor& parallel) :
@@ -81,8 +94,12 @@ void CommonPseMobility::setBlobs(const vector<Vec3>& positions, const vector<dou
             onDevice = false;
             return;
         }
-    ContextSelector selector(cc);
     const PseWaveSpace& wave = pse.getWaveSpace();
+    if (!cc.getUseDoublePrecision() && !fitsSinglePrecision(wave.getGaussians())) {
+        onDevice = false;
+        return;
+    }
+    ContextSelector selector(cc);
     numGroups = wave.getGaussians().getGroupStart().size()-1;
     prepareGrid(p, numGroups);
     ensure(cc, force, 3*numBlobs, sizeof(double), "pseForce", true);

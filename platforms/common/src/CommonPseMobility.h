@@ -28,8 +28,8 @@ struct PseParameters;
  * Precision: the real-space pairs as the host stores them (float from epsilon 1e-4 up), summed in
  * double; the grid, the FFTs and interpolation in the context's precision (float in single and
  * mixed). Where that is float and the tolerance is tighter than SinglePrecisionTolerance (float's
- * rounding in the FFTs would reach it), or where the device's FFT cannot take the grid, the products
- * are the host's (the base class's), so that the tolerance holds on every device.
+ * rounding in the FFTs would reach it), where in a triclinic box the Gaussians' factors would near
+ * float's range, or where the device's FFT cannot take the grid, the products are the host's (the base class's), so that the tolerance holds on every device.
  */
 class CommonPseMobility : public SpectralBlobMobility {
 public:
