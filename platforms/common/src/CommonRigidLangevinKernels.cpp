@@ -523,6 +523,10 @@ BlobMobility& CommonIntegrateRigidLangevinStepKernel::blobMobility() {
     return *deviceMobility;
 }
 
+void CommonIntegrateRigidLangevinStepKernel::parallelFor(int count, const std::function<void (int, int)>& task) {
+    parallelForOn(cc.getThreadPool(), count, task);
+}
+
 SpectralBlobMobility* CommonIntegrateRigidLangevinStepKernel::createSpectralMobility(const std::string& integratorName,
                                                                                 const KrylovSolvers::ParallelFor& parallel) {
     return new CommonPseMobility(cc, integratorName, parallel);

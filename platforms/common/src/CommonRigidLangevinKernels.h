@@ -59,6 +59,8 @@ protected:
     std::function<double ()> hostNormals();
     /** The device's products of the blobs' mobility (CommonBlobMobility). */
     BlobMobility& blobMobility();
+    /** On the context's host threads (ComputeContext::getThreadPool()): the host's share of the coupled step, the PSE's preparation. */
+    void parallelFor(int count, const std::function<void (int, int)>& task);
     /** The spectral solver's products on the device (CommonPseMobility). */
     SpectralBlobMobility* createSpectralMobility(const std::string& integratorName, const KrylovSolvers::ParallelFor& parallel);
     void finishHostStep(OpenMM::ContextImpl& context, double h);

@@ -47,16 +47,7 @@ void CpuIntegrateRigidLangevinStepKernel::initialize(const System& system, const
 }
 
 void CpuIntegrateRigidLangevinStepKernel::parallelFor(int count, const std::function<void (int, int)>& task) {
-    const int numThreads = threads.getNumThreads();
-    if (numThreads == 1 || count < 64) {
-        task(0, count);
-        return;
-    }
-    // Each thread takes whole rows, so the results do not depend on the number of threads.
-    threads.execute([&] (ThreadPool& /*pool*/, int thread) {
-        task((int) ((long long) count*thread/numThreads), (int) ((long long) count*(thread+1)/numThreads));
-    });
-    threads.waitForThreads();
+    parallelForOn(threads, count, task);
 }
 
 void CpuIntegrateRigidLangevinStepKernel::forEachChunk(const std::function<void (int, int, int)>& task) {

@@ -5,6 +5,7 @@
 #include "openmm/CMMotionRemover.h"
 #include "openmm/OpenMMException.h"
 #include "openmm/internal/ContextImpl.h"
+#include "openmm/internal/ThreadPool.h"
 #include "openmm/reference/SimTKOpenMMRealType.h"
 #include <cmath>
 #include <cstdlib>
@@ -134,6 +135,19 @@ CoupledSolve RigidLangevinStepKernelBase::chooseCoupledSolve(const RigidBodyInte
                 " blobs, more than the budget of "+std::to_string((long long) (budget/(1<<20)))+" MiB (setHydrodynamicMemoryBudget()): call "
                 "setHydrodynamicSolver(SpectralSolver) (the positively split Ewald sum, linear memory) or AutomaticSolver, or raise the budget");
     return solve;
+}
+
+void RigidLangevinStepKernelBase::parallelForOn(ThreadPool& pool, int count, const std::function<void (int, int)>& task) {
+    const int numThreads = pool.getNumThreads();
+    if (numThreads == 1 || count < 64) {
+        task(0, count);
+        return;
+    }
+    // Each thread takes whole rows, so the results do not depend on the number of threads.
+    pool.execute([&] (ThreadPool& /*pool*/, int thread) {
+        task((int) ((long long) count*thread/numThreads), (int) ((long long) count*(thread+1)/numThreads));
+    });
+    pool.waitForThreads();
 }
 
 BlobMobility& RigidLangevinStepKernelBase::stepMobility(const RigidBodyIntegrator& integrator, const CoupledSolve& solve, BlobMobility& platformMobility) {

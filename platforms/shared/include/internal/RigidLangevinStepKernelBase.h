@@ -13,6 +13,10 @@
 #include <memory>
 #include <vector>
 
+namespace OpenMM {
+class ThreadPool;
+}
+
 namespace RigidLangevinPlugin {
 
 /**
@@ -92,6 +96,8 @@ protected:
     virtual void parallelFor(int count, const std::function<void (int, int)>& task) {
         task(0, count);
     }
+    /** parallelFor on pool's threads: one contiguous range each (on the calling thread below 64). */
+    static void parallelForOn(OpenMM::ThreadPool& pool, int count, const std::function<void (int, int)>& task);
     /** After a step taken on the host: place sites outside bodies, advance the time by h and the step count by one. */
     virtual void finishHostStep(OpenMM::ContextImpl& context, double h) = 0;
     /**
