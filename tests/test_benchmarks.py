@@ -349,7 +349,8 @@ def test_hydrodynamic_interactions_benchmark_runs_each_solver(tmp_path, monkeypa
 def test_periodic_hydrodynamics_benchmark_times_both_periodic_products(tmp_path, monkeypatch):
     """benchmarks/platforms/periodic_hydrodynamics.py: its scene is a periodic cube of non-overlapping
     spheres at the volume fraction it names, and one small measurement times the spectral and the
-    dense Ewald steps, each against the same spheres without interactions, on the CPU and on OpenCL."""
+    dense Ewald steps, each against the same spheres without interactions, on the CPU and on OpenCL,
+    and RigidBrownianIntegrator's spectral step."""
     sys.path.insert(0, str(ROOT/'benchmarks'/'platforms'))
     import benchmark_utils
     import periodic_hydrodynamics as bench
@@ -370,6 +371,10 @@ def test_periodic_hydrodynamics_benchmark_times_both_periodic_products(tmp_path,
     rows = bench.measure(100, 1e-3, pairs=2, max_dense_blobs=0, platform='OpenCL', properties={'Precision': 'double'})
     assert [(r['platform'], r['solver']) for r in rows] == [('OpenCL', 'off'), ('OpenCL', 'spectral')]
     assert rows[1]['peak_mib'] == '' and float(rows[1]['blob_products_per_s']) > 0
+    # RigidBrownianIntegrator's step: its noise's Lanczos (on the PSE's real-space part) and its solves' GMRES iterations.
+    rows = bench.measure(100, 1e-3, pairs=2, max_dense_blobs=0, brownian=True)
+    assert [r['solver'] for r in rows] == ['off', 'spectral']
+    assert rows[1]['lanczos'] > 0 and rows[1]['friction_cg'] > 0 and float(rows[1]['ms_per_step']) > 0
 
 
 def test_colloid_study_appends_to_the_same_records_as_one_run(tmp_path):

@@ -61,10 +61,17 @@ def langevin(temperature=300, viscosity=500.0):
 
 
 def one_step(platform, make_integrator, solver, tolerance, count=60):
-    """The displacements and velocities of one step of count spheres (radius 0.5 nm, 5% volume fraction)."""
+    """The displacements and velocities of one step of count spheres (radius 0.5 nm, 5% volume
+    fraction), each pulled by a force of its own (random, fixed)."""
     side, centres = random_spheres(count, 0.05, 0.5, np.random.default_rng(3))
     integrator = make_integrator()
     system = periodic_spheres(integrator, count, side, 0.5)
+    pull = mm.CustomExternalForce('-(fx*x+fy*y+fz*z)')
+    for name in ('fx', 'fy', 'fz'):
+        pull.addPerParticleParameter(name)
+    for i, f in enumerate(np.random.default_rng(4).normal(0, 10, (count, 3))):
+        pull.addParticle(i, list(f))
+    system.addForce(pull)
     integrator.setHydrodynamicSolver(solver)
     integrator.setHydrodynamicTolerance(tolerance)
     context = platform.context(system, integrator)
@@ -75,21 +82,33 @@ def one_step(platform, make_integrator, solver, tolerance, count=60):
     return state.getPositions(asNumpy=True)._value-centres, state.getVelocities(asNumpy=True)._value, list(integrator.getKrylovIterations())
 
 
-@pytest.mark.parametrize('make_integrator', [langevin, lambda: rl.RigidBrownianIntegrator(300, 1.0, 0.002)], ids=['langevin', 'brownian'])
+def brownian_at_zero_temperature():
+    return rl.RigidBrownianIntegrator(0, 1.0, 0.002)
+
+
+# Either integrator's step: Langevin's at 300 K, Brownian's at zero temperature (with the spectral
+# products its noise is the PSE's own, exact through the split, not the Lanczos noise of the dense
+# sum; TestSpectralBlobMobility checks its covariance against the dense Ewald sum's M).
+BOTH_STEPS = pytest.mark.parametrize('make_integrator', [langevin, brownian_at_zero_temperature], ids=['langevin', 'brownian'])
+
+
+@BOTH_STEPS
 def test_the_spectral_step_is_the_dense_ewald_step_to_the_tolerance(platform, make_integrator):
-    # Same seed, same normals (three per blob, the Lanczos noise on either product): the two steps
-    # differ only by the products' and solves' errors. Measured 1e-11 to 2e-10 of the largest
-    # displacement or velocity at tolerance 1e-9 (the PSE's epsilon); a PSE product wrong by 1e-6
-    # (an epsilon a thousand times the tolerance, a part of the split missing) fails.
+    # Same seed, same normals (three per blob, the Lanczos noise of the Langevin step on either
+    # product): the two steps differ only by the products' and solves' errors. Measured 1e-11 to
+    # 2e-10 of the largest displacement or velocity at tolerance 1e-9 (the PSE's epsilon); a PSE
+    # product wrong by 1e-6 (an epsilon a thousand times the tolerance, a part of the split
+    # missing) fails.
     tolerance = 1e-9
     spectral = one_step(platform, make_integrator, rl.RigidLangevinIntegrator.SpectralSolver, tolerance)
     dense = one_step(platform, make_integrator, rl.RigidLangevinIntegrator.KrylovSolver, tolerance)
-    assert spectral[2] == dense[2] and spectral[2][0] > 0 and spectral[2][2] > 0  # the Langevin noise takes no solve: [1] may be 0
+    # The Langevin noise takes no solve ([1] may be 0); at zero temperature there is no noise ([0] is 0).
+    assert spectral[2] == dense[2] and spectral[2][2] > 0 and (spectral[2][0] > 0 or make_integrator is brownian_at_zero_temperature)
     for s, d in zip(spectral[:2], dense[:2]):
         assert np.abs(s-d).max() < tolerance*np.abs(d).max()
 
 
-@pytest.mark.parametrize('make_integrator', [langevin, lambda: rl.RigidBrownianIntegrator(300, 1.0, 0.002)], ids=['langevin', 'brownian'])
+@BOTH_STEPS
 def test_the_device_spectral_step_in_mixed_precision_is_the_dense_ewald_step_to_the_tolerance(make_integrator):
     # On OpenCL in mixed precision at a tolerance of 1e-4 the spectral products run on the device with
     # the grid and FFTs in float (CommonPseMobility); the step still equals the dense Ewald sum's

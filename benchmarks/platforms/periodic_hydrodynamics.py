@@ -12,7 +12,12 @@ tolerance and the PSE's epsilon).
 
     python benchmarks/platforms/periodic_hydrodynamics.py [--quick] [--sizes 100 300 1000 3000 10000]
         [--tolerances 1e-3 1e-6] [--max-dense-blobs 1000] [--pairs 2] [--name periodic_hydrodynamics] [--replot]
-        [--platform CPU] [--precision mixed]
+        [--platform CPU] [--precision mixed] [--integrator langevin|brownian]
+
+--integrator brownian times RigidBrownianIntegrator's step instead (same scene and step size); its
+iteration columns are then the noise's Lanczos (with the spectral products a Lanczos on the PSE's
+sparse real-space part only: the noise is the PSE's own, exact through its split), and the GMRES
+iterations of the drift's and the step's mobility solves.
 
 On OpenCL and CUDA the spectral products run on the device (CommonPseMobility: OpenMM's FFTs; in
 single and mixed precision from tolerance 1e-5 up, tighter on the host), the Krylov iterations on
@@ -51,8 +56,9 @@ COLUMNS = ['platform', 'blobs', 'tolerance', 'solver', 'ms_per_step', 'ms_error'
            'speedup_error', 'peak_mib', 'lanczos', 'noise_cg', 'friction_cg', 'blob_products_per_s']
 
 
-def scene(count, volume_fraction=0.05, seed=1):
-    """(System, integrator factory, positions): count spheres at random without overlap in a periodic cube."""
+def scene(count, volume_fraction=0.05, seed=1, brownian=False):
+    """(System, integrator factory, positions): count spheres at random without overlap in a periodic
+    cube, stepped by RigidLangevinIntegrator (BAOAB) or, if brownian, RigidBrownianIntegrator."""
     side = (count*4/3*math.pi*RADIUS**3/volume_fraction)**(1/3)
     rng = np.random.default_rng(seed)
     cells = max(1, int(side/(2*RADIUS)))
@@ -80,8 +86,11 @@ def scene(count, volume_fraction=0.05, seed=1):
     system.addForce(periodic)
 
     def integrator(interactions, tolerance):
-        result = rl.RigidLangevinIntegrator(300*unit.kelvin, 0.89*rl.centipoise, STEP_PS*unit.picoseconds)
-        result.setScheme(rl.RigidLangevinIntegrator.BAOAB)
+        if brownian:
+            result = rl.RigidBrownianIntegrator(300*unit.kelvin, 0.89*rl.centipoise, STEP_PS*unit.picoseconds)
+        else:
+            result = rl.RigidLangevinIntegrator(300*unit.kelvin, 0.89*rl.centipoise, STEP_PS*unit.picoseconds)
+            result.setScheme(rl.RigidLangevinIntegrator.BAOAB)
         result.setHydrodynamicInteractions(interactions)
         result.setHydrodynamicTolerance(tolerance)
         for i in range(count):
@@ -100,18 +109,19 @@ def peak_resident_mib():
     return float('nan')
 
 
-def memory_probe(count, tolerance, mode):
+def memory_probe(count, tolerance, mode, brownian=False):
     """In this process: the scene, mode's Context and one step; print the peak resident MiB."""
     solver(MODES[mode])()
-    system, make_integrator, positions = scene(count)
+    system, make_integrator, positions = scene(count, brownian=brownian)
     integrator = make_integrator(mode != 'off', tolerance)
     running_context(system, integrator, positions, 'CPU', {}, warmup_steps=1)
     print(f'peak {peak_resident_mib():.6g}')
 
 
-def probed_peak_mib(count, tolerance, mode):
+def probed_peak_mib(count, tolerance, mode, brownian=False):
     """The peak resident MiB of memory_probe() in a child process."""
-    result = subprocess.run([sys.executable, os.path.abspath(__file__), '--memory-probe', str(count), repr(tolerance), mode],
+    result = subprocess.run([sys.executable, os.path.abspath(__file__), '--memory-probe', str(count), repr(tolerance), mode]+
+                            (['--integrator', 'brownian'] if brownian else []),
                             capture_output=True, encoding='utf-8', check=True)
     return float(result.stdout.split('peak ')[-1])
 
@@ -125,9 +135,10 @@ def solver(name):
     return set_environment
 
 
-def measure(count, tolerance, pairs, max_dense_blobs, platform='CPU', properties=None):
-    """The rows of one size and tolerance on the platform (with its Context properties)."""
-    system, make_integrator, positions = scene(count)
+def measure(count, tolerance, pairs, max_dense_blobs, platform='CPU', properties=None, brownian=False):
+    """The rows of one size and tolerance on the platform (with its Context properties), of
+    RigidBrownianIntegrator's step if brownian, else RigidLangevinIntegrator's."""
+    system, make_integrator, positions = scene(count, brownian=brownian)
     modes = [m for m in MODES if m != 'dense Ewald' or count <= max_dense_blobs]
     contexts, prepare = {}, {}
     for mode in modes:
@@ -137,7 +148,7 @@ def measure(count, tolerance, pairs, max_dense_blobs, platform='CPU', properties
         contexts[mode] = (integrator, running_context(system, integrator, positions, platform, properties or {}, warmup_steps=1))
     times = paired_times(contexts, 1, pairs=pairs, prepare=prepare)
     os.environ.pop('RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER', None)
-    peak = {mode: probed_peak_mib(count, tolerance, mode) for mode in modes} if platform == 'CPU' else None
+    peak = {mode: probed_peak_mib(count, tolerance, mode, brownian) for mode in modes} if platform == 'CPU' else None
     rows = []
     for mode in modes:
         integrator = contexts[mode][0]
@@ -197,10 +208,12 @@ def main():
     parser.add_argument('--replot', action='store_true', help='only draw results/<name>.png again from results/<name>.csv')
     parser.add_argument('--platform', default='CPU', choices=('Reference', 'CPU', 'OpenCL', 'CUDA'))
     parser.add_argument('--precision', default='mixed', choices=('single', 'mixed', 'double'), help='on OpenCL and CUDA')
+    parser.add_argument('--integrator', default='langevin', choices=('langevin', 'brownian'),
+                        help='RigidLangevinIntegrator (BAOAB) or RigidBrownianIntegrator')
     parser.add_argument('--memory-probe', nargs=3, metavar=('BLOBS', 'TOLERANCE', 'MODE'), help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.memory_probe:
-        memory_probe(int(args.memory_probe[0]), float(args.memory_probe[1]), args.memory_probe[2])
+        memory_probe(int(args.memory_probe[0]), float(args.memory_probe[1]), args.memory_probe[2], args.integrator == 'brownian')
         return
     if args.replot:
         with open(os.path.join(benchmark_utils.RESULTS, args.name+'.csv'), encoding='utf-8') as f:
@@ -216,7 +229,8 @@ def main():
         for tolerance in args.tolerances:
             print(f'{count} blobs at tolerance {tolerance:g}...', flush=True)
             start = time.perf_counter()
-            rows += measure(count, tolerance, args.pairs, args.max_dense_blobs, args.platform, platform_properties(args.platform, args.precision))
+            rows += measure(count, tolerance, args.pairs, args.max_dense_blobs, args.platform, platform_properties(args.platform, args.precision),
+                            args.integrator == 'brownian')
             print(f'({time.perf_counter()-start:.0f} s)', flush=True)
             write_table(args.name, COLUMNS, rows)
     plot(rows, args.name)

@@ -13,6 +13,10 @@ void BlobMobility::setWall(double /*wallZ*/) {
     throw OpenMMException("BlobMobility::setWall: this implementation of the blobs' mobility has no no-slip wall");
 }
 
+KrylovSolvers::Result BlobMobility::sampleNoise(const std::function<double()>&, Eigen::VectorXd&, double, int) {
+    throw OpenMM::OpenMMException("BlobMobility: this product has no noise of its own (hasOwnNoise() is false): take a Lanczos square root of M");
+}
+
 void HostBlobMobility::setWall(double wallZ) {
     if (!std::isfinite(wallZ))
         throw OpenMMException("HostBlobMobility::setWall: the wall's height must be finite (nm)");

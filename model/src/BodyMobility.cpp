@@ -141,9 +141,16 @@ void BodyMobility::blobVelocities(const vector<BodyState>& states, const VectorX
     mobility.multiply(f, out);
 }
 
-int BodyMobility::blobNoise(const vector<BodyState>& states, const VectorXd& w, VectorXd& slip, double tolerance, int maxIterations,
-                            BlobMobility& mobility, const Vec3* box) {
+int BodyMobility::blobNoise(const vector<BodyState>& states, const std::function<double ()>& normal, VectorXd& slip, double tolerance,
+                            int maxIterations, BlobMobility& mobility, const Vec3* box) {
     placeBlobs(states, mobility, box);
+    if (mobility.hasOwnNoise())
+        return checkHydrodynamicSolve("the Lanczos square root of the positively split Ewald sum's real-space part for the noise",
+                                      mobility.sampleNoise(normal, slip, tolerance, maxIterations), model.getNumBodies(), numBlobs,
+                                      model.getIntegratorName());
+    VectorXd w(3*numBlobs);
+    for (int i = 0; i < w.size(); i++)
+        w[i] = normal();
     // slip = L A^1/2 w with A = L^-1 M L^-T, L L^T every body's own blocks of M: covariance L A L^T = M,
     // in the iterations of the well-conditioned A rather than of M.
     VectorXd root;

@@ -224,8 +224,9 @@ public:
      * the noise's Lanczos iteration (M^-1/2 w, preconditioned by every body's own blobs), 0 (the
      * noise needs no conjugate gradients since it is taken that way), and the friction's conjugate
      * gradients. RigidBrownianIntegrator: the noise's Lanczos iteration (M^1/2 w, preconditioned the
-     * same way), the GMRES iterations of the drift's mobility solve, and those of the step's mobility
-     * solve. All zero after a dense step, at zero viscosity or without interactions;
+     * same way; with the spectral solver the positively split Ewald sum's own noise, whose Lanczos is
+     * on its real-space part alone, each iteration a sparse product), the GMRES iterations of the
+     * drift's mobility solve, and those of the step's mobility solve. All zero after a dense step, at zero viscosity or without interactions;
      * the noise's zero at zero temperature. The integrator must be bound to a Context.
      */
     std::vector<int> getKrylovIterations() const;

@@ -42,6 +42,19 @@ public:
     virtual void setTolerance(double tolerance) {
         (void) tolerance;
     }
+    /**
+     * Whether sampleNoise() draws noise of covariance M by a method of this product's own, cheaper
+     * than a Lanczos square root on M (the positively split Ewald sum's, exact through its split).
+     */
+    virtual bool hasOwnNoise() const {
+        return false;
+    }
+    /**
+     * out = a sample of covariance M at the blobs of the last setBlobs(), from as many standard
+     * normals drawn from normal() as the method needs, any iterative part to tolerance (its outcome
+     * returned). This default throws: only an implementation whose hasOwnNoise() is true has one.
+     */
+    virtual KrylovSolvers::Result sampleNoise(const std::function<double()>& normal, Eigen::VectorXd& out, double tolerance, int maxIterations);
 };
 
 /**

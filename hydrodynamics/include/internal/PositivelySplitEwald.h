@@ -90,7 +90,11 @@ public:
      * @return the real-space Lanczos iteration's outcome and iterations (KrylovSolvers::Result; out
      *         holds an unconverged sample where it did not converge)
      */
-    KrylovSolvers::Result sampleNoise(const std::function<double()>& normal, Eigen::VectorXd& out, double lanczosTolerance, int maxLanczosIterations);
+    KrylovSolvers::Result sampleNoise(const std::function<double()>& normal, Eigen::VectorXd& out, double lanczosTolerance, int maxLanczosIterations) override;
+    /** True: sampleNoise() is exact through the split, a Lanczos on the sparse real-space part only. */
+    bool hasOwnNoise() const override {
+        return true;
+    }
     /** out = M_real^1/2 w for 3B normals w drawn from normal(); returns as sampleNoise(). */
     KrylovSolvers::Result sampleRealSpaceNoise(const std::function<double()>& normal, Eigen::VectorXd& out, double lanczosTolerance,
                                                int maxLanczosIterations);

@@ -53,9 +53,15 @@ public:
     /** K' u (the blobs' lab velocities of generalised velocities u) and K'^T f (the generalised forces of lab blob forces f), at these states. */
     void applyK(const std::vector<BodyState>& states, const Eigen::VectorXd& u, Eigen::VectorXd& out) const;
     void applyKT(const std::vector<BodyState>& states, const Eigen::VectorXd& f, Eigen::VectorXd& out) const;
-    /** Matrix-free: slip = M^1/2 w at these states (Lanczos), w three normals per blob; returns its iterations. */
-    int blobNoise(const std::vector<BodyState>& states, const Eigen::VectorXd& w, Eigen::VectorXd& slip, double tolerance, int maxIterations,
-                  BlobMobility& mobility, const OpenMM::Vec3* box);
+    /**
+     * Matrix-free: slip of covariance M at these states, from normals drawn from normal(): the
+     * product's own noise where it has one (BlobMobility::hasOwnNoise(): the positively split
+     * Ewald sum's, exact through its split, a Lanczos on its sparse real-space part only), else
+     * M^1/2 w by Lanczos preconditioned by every body's own blocks, w three normals per blob.
+     * Returns the Lanczos iterations.
+     */
+    int blobNoise(const std::vector<BodyState>& states, const std::function<double ()>& normal, Eigen::VectorXd& slip, double tolerance,
+                  int maxIterations, BlobMobility& mobility, const OpenMM::Vec3* box);
 private:
     /** Set mobility's blobs from states (checked first), and the blob offsets of every body. */
     void placeBlobs(const std::vector<BodyState>& states, BlobMobility& mobility, const OpenMM::Vec3* box);

@@ -140,10 +140,7 @@ VectorXd BrownianBodyStep::krylovVelocities(const vector<BodyState>& states, Vec
     VectorXd slip, u;
     lastIterations = {0, 0, 0};
     if (step.kT > 0) {
-        VectorXd w(3*interactions->getNumBlobs());
-        for (int i = 0; i < w.size(); i++)
-            w[i] = normal();
-        lastIterations.noise = bodyMobility->blobNoise(states, w, slip, solve.tolerance, solve.maxIterations, mobility, step.box);
+        lastIterations.noise = bodyMobility->blobNoise(states, normal, slip, solve.tolerance, solve.maxIterations, mobility, step.box);
         slip *= std::sqrt(2*step.kT*step.viscosity/step.stepSize);
         DriftTerms terms = tractionTerms(states, randomDirections(normal), step, solve, mobility);
         g += terms.force;

@@ -49,6 +49,11 @@ void SpectralBlobMobility::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& o
     product->multiply(f, out);
 }
 
+KrylovSolvers::Result SpectralBlobMobility::sampleNoise(const std::function<double()>& normal, Eigen::VectorXd& out, double tolerance,
+                                                        int maxIterations) {
+    return product->sampleNoise(normal, out, tolerance, maxIterations);
+}
+
 const PositivelySplitEwald& SpectralBlobMobility::getProduct() const {
     if (!product)
         throw OpenMMException("SpectralBlobMobility: call setTolerance() first");

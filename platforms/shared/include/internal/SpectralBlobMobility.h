@@ -36,6 +36,11 @@ public:
     void setMemoryBudget(double bytes);
     void setBlobs(const std::vector<OpenMM::Vec3>& positions, const std::vector<double>& radii, const OpenMM::Vec3* boxVectors = NULL) override;
     void multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out) override;
+    /** The PSE's noise, exact through its split (PositivelySplitEwald::sampleNoise()), on the host. */
+    bool hasOwnNoise() const override {
+        return true;
+    }
+    KrylovSolvers::Result sampleNoise(const std::function<double()>& normal, Eigen::VectorXd& out, double tolerance, int maxIterations) override;
     /** The PSE in use (after setTolerance()), e.g. for its grid and memory. */
     const PositivelySplitEwald& getProduct() const;
 private:
