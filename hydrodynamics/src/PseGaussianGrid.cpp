@@ -1,4 +1,5 @@
 #include "internal/PseGaussianGrid.h"
+#include "internal/TargetClones.h"
 #include <algorithm>
 #include <cmath>
 
@@ -101,14 +102,6 @@ struct PseBlobSupport {
 
 namespace {
 
-// The per-blob loops in two builds, one for CPUs with AVX2 and FMA (x86-64-v3) and one for the
-// baseline, chosen when the library is loaded (GCC's target_clones, as the host step's loop);
-// flatten compiles what they call into each build. Other compilers build the baseline.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__ELF__)
-#define RIGIDLANGEVIN_PSE_CLONES __attribute__((target_clones("arch=x86-64-v3", "default"), flatten))
-#else
-#define RIGIDLANGEVIN_PSE_CLONES
-#endif
 
 /** The grid indices, wrapped, of the support from first on an axis of m points (p <= m). */
 inline void supportIndices(int first, int p, int m, int* index) {
@@ -117,7 +110,7 @@ inline void supportIndices(int first, int p, int m, int* index) {
 }
 
 /** Blob s's share of plane n0 of its support. */
-RIGIDLANGEVIN_PSE_CLONES void spreadBlob(const PseBlobSupport& s, int n0, const double force[3], double* plane) {
+RIGIDLANGEVIN_CLONES void spreadBlob(const PseBlobSupport& s, int n0, const double force[3], double* plane) {
     const int p = s.p;
     int index1[PseMaxSupport], index2[PseMaxSupport];
     supportIndices(s.base[1], p, s.grid[1], index1);
@@ -148,7 +141,7 @@ RIGIDLANGEVIN_PSE_CLONES void spreadBlob(const PseBlobSupport& s, int n0, const 
 }
 
 /** u = blob s's Gaussian times the grid in, over its support. */
-RIGIDLANGEVIN_PSE_CLONES void interpolateBlob(const PseBlobSupport& s, const double* in, double u[3]) {
+RIGIDLANGEVIN_CLONES void interpolateBlob(const PseBlobSupport& s, const double* in, double u[3]) {
     const int p = s.p;
     int index0[PseMaxSupport], index1[PseMaxSupport], index2[PseMaxSupport];
     supportIndices(s.base[0], p, s.grid[0], index0);

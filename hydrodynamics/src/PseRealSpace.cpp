@@ -1,6 +1,8 @@
 #include "internal/PseRealSpace.h"
+#include "internal/TargetClones.h"
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 
 using namespace RigidLangevinPlugin;
 using OpenMM::Vec3;
@@ -28,7 +30,7 @@ void PseRealSpace::buildCells(const vector<Vec3>& positions, double maxRadius) {
     if (excess > 1)
         for (int d = 0; d < 3; d++)
             numCells[d] = std::max(1, (int) (numCells[d]/excess));
-    vector<Vec3> scaled(n);
+    vector<Vec3> blobFractional(n);
     vector<int> blobCell(n);
     cellStart.assign(numCells[0]*numCells[1]*numCells[2]+1, 0);
     for (int i = 0; i < n; i++) {
@@ -36,7 +38,7 @@ void PseRealSpace::buildCells(const vector<Vec3>& positions, double maxRadius) {
         for (int d = 0; d < 3; d++) {
             double s = positions[i].dot(inverse[d]);
             s -= std::floor(s);
-            scaled[i][d] = s;
+            blobFractional[i][d] = s;
             cell = cell*numCells[d]+std::min(numCells[d]-1, (int) (s*numCells[d]));
         }
         blobCell[i] = cell;
@@ -47,15 +49,18 @@ void PseRealSpace::buildCells(const vector<Vec3>& positions, double maxRadius) {
     order.resize(n);
     fractional.resize(n);
     vector<int> next(cellStart.begin(), cellStart.end()-1);
+    for (int d = 0; d < 3; d++)
+        scaled[d].resize(n);
     for (int i = 0; i < n; i++) {
         const int k = next[blobCell[i]]++;
         order[k] = i;
-        fractional[k] = scaled[i];
+        fractional[k] = blobFractional[i];
+        for (int d = 0; d < 3; d++)
+            scaled[d][k] = blobFractional[i][d];
     }
 }
 
-template <class Visit>
-void PseRealSpace::forEachNeighbour(int i, const Visit& visit) const {
+RIGIDLANGEVIN_CLONES void PseRealSpace::appendNeighbours(int i, vector<int>& out) const {
     int cell[3];
     for (int d = 0; d < 3; d++)
         cell[d] = std::min(numCells[d]-1, (int) (fractional[i][d]*numCells[d]));
@@ -69,18 +74,37 @@ void PseRealSpace::forEachNeighbour(int i, const Visit& visit) const {
                 neighbours[d][numNeighbours[d]++] = c;
         }
     }
+    // Each cell's blobs are contiguous in the cells' order: their distances are computed a block at
+    // a time without branches (the nearest image by comparisons, which vectorise), then the blobs
+    // within i's cutoff are kept.
+    const int Block = 64;
+    double excess[Block];
+    const double* sx = scaled[0].data();
+    const double* sy = scaled[1].data();
+    const double* sz = scaled[2].data();
+    const double* radius = sortedRadius.data();
+    const double fi[3] = {fractional[i][0], fractional[i][1], fractional[i][2]}, reach = sortedRadius[i]+cutoffBeyondContact;
+    const double b00 = box[0][0], b01 = box[0][1], b02 = box[0][2], b10 = box[1][0], b11 = box[1][1], b12 = box[1][2];
+    const double b20 = box[2][0], b21 = box[2][1], b22 = box[2][2];
     for (int u = 0; u < numNeighbours[0]; u++)
         for (int v = 0; v < numNeighbours[1]; v++)
             for (int w = 0; w < numNeighbours[2]; w++) {
                 const int c = (neighbours[0][u]*numCells[1]+neighbours[1][v])*numCells[2]+neighbours[2][w];
-                for (int j = cellStart[c]; j < cellStart[c+1]; j++) {
-                    if (j == i)
-                        continue;
-                    const Vec3 s = fractional[j]-fractional[i];
-                    const Vec3 d = box[0]*nearest(s[0])+box[1]*nearest(s[1])+box[2]*nearest(s[2]);
-                    const double r2 = d.dot(d), cutoff = sortedRadius[i]+sortedRadius[j]+cutoffBeyondContact;
-                    if (r2 < cutoff*cutoff)
-                        visit(j, d, std::sqrt(r2));
+                for (int first = cellStart[c]; first < cellStart[c+1]; first += Block) {
+                    const int count = std::min(Block, cellStart[c+1]-first);
+                    for (int t = 0; t < count; t++) {
+                        const int j = first+t;
+                        double s0 = sx[j]-fi[0], s1 = sy[j]-fi[1], s2 = sz[j]-fi[2];
+                        s0 += (s0 < -0.5 ? 1.0 : 0.0)-(s0 > 0.5 ? 1.0 : 0.0);
+                        s1 += (s1 < -0.5 ? 1.0 : 0.0)-(s1 > 0.5 ? 1.0 : 0.0);
+                        s2 += (s2 < -0.5 ? 1.0 : 0.0)-(s2 > 0.5 ? 1.0 : 0.0);
+                        const double dx = b00*s0+b10*s1+b20*s2, dy = b01*s0+b11*s1+b21*s2, dz = b02*s0+b12*s1+b22*s2;
+                        const double cutoff = reach+radius[j];
+                        excess[t] = dx*dx+dy*dy+dz*dz-cutoff*cutoff;
+                    }
+                    for (int t = 0; t < count; t++)
+                        if (excess[t] < 0 && first+t != i)
+                            out.push_back(first+t);
                 }
             }
 }
@@ -103,23 +127,35 @@ void PseRealSpace::setBlobs(const vector<Vec3>& positions, const vector<int>& gr
         sortedGroup[k] = group[order[k]];
         sortedRadius[k] = groupRadii[sortedGroup[k]];
     }
-    // Count, check the budget, then store.
+    // One search: each range of rows keeps its neighbours (4 bytes a pair) while the pairs are
+    // counted and the budget checked; then the rows' terms are stored from them.
     vector<long long> counts(n);
+    vector<NeighbourRange> ranges;
+    std::mutex rangesLock;
+    // Room for 5% more neighbours a row than the last configuration had (a vector doubling as it grows would hold up to twice them).
+    const double lastPerRow = (rowStart.size() > 1 ? (double) rowStart.back()/(rowStart.size()-1) : 0.0);
     parallel(n, [&] (int begin, int end) {
+        NeighbourRange range = {begin, end, {}};
+        range.neighbours.reserve((size_t) (1.05*lastPerRow*(end-begin)));
         for (int i = begin; i < end; i++) {
-            long long count = 0;
-            forEachNeighbour(i, [&] (int, const Vec3&, double) { count++; });
-            counts[i] = count;
+            const size_t before = range.neighbours.size();
+            appendNeighbours(i, range.neighbours);
+            counts[i] = range.neighbours.size()-before;
         }
+        std::lock_guard<std::mutex> guard(rangesLock);
+        ranges.push_back(std::move(range));
     });
     rowStart.assign(n+1, 0);
     for (int i = 0; i < n; i++)
         rowStart[i+1] = rowStart[i]+counts[i];
     checkPairs((double) rowStart[n]);
-    singlePairs.clear();
-    singlePairs.shrink_to_fit();
-    doublePairs.clear();
-    doublePairs.shrink_to_fit();
+    // The other precision's pairs are released; this one's memory is kept for the next configuration
+    // (allocating it again, page by page, cost a tenth of the search).
+    const bool single = PseParameterChoice::singlePrecisionPairs(parameters.tolerance);
+    if (single)
+        vector<Pair<double>>().swap(doublePairs);
+    else
+        vector<Pair<float>>().swap(singlePairs);
     self.resize(n);
     parallel(n, [&] (int begin, int end) {
         for (int i = begin; i < end; i++) {
@@ -127,31 +163,50 @@ void PseRealSpace::setBlobs(const vector<Vec3>& positions, const vector<int>& gr
             table.realSpace(0, sortedGroup[i], sortedGroup[i], self[i], dyadic);
         }
     });
-    if (PseParameterChoice::singlePrecisionPairs(parameters.tolerance))
-        storePairs(singlePairs, parallel);
+    if (single)
+        storePairs(singlePairs, ranges, parallel);
     else
-        storePairs(doublePairs, parallel);
+        storePairs(doublePairs, ranges, parallel);
 }
 
 template <class Real>
-void PseRealSpace::storePairs(vector<Pair<Real>>& pairs, const ParallelFor& parallel) {
-    const int n = self.size();
-    pairs.resize(rowStart[n]);
-    parallel(n, [&] (int begin, int end) {
-        for (int i = begin; i < end; i++) {
-            long long k = rowStart[i];
-            forEachNeighbour(i, [&] (int j, const Vec3& d, double r) {
-                Pair<Real>& pair = pairs[k++];
-                pair.j = j;
-                double isotropic, dyadicPerR2;
-                table.realSpace(r, sortedGroup[i], sortedGroup[j], isotropic, dyadicPerR2);
-                pair.isotropic = (Real) isotropic;
-                pair.dyadicPerR2 = (Real) dyadicPerR2;
-                for (int c = 0; c < 3; c++)
-                    pair.d[c] = (Real) d[c];
-            });
+void PseRealSpace::storePairs(vector<Pair<Real>>& pairs, vector<NeighbourRange>& ranges, const ParallelFor& parallel) {
+    // Memory kept from the last configuration is reused; where it is too small it is released before
+    // the new is allocated (growing it in place would copy the old pairs and hold both), with 1% to
+    // spare, as the count moves a little from one configuration to the next.
+    const size_t numPairs = rowStart.back();
+    if (pairs.capacity() < numPairs) {
+        vector<Pair<Real>>().swap(pairs);
+        pairs.reserve(numPairs+numPairs/100);
+    }
+    pairs.resize(numPairs);
+    parallel(ranges.size(), [&] (int begin, int end) {
+        for (int r = begin; r < end; r++) {
+            NeighbourRange& range = ranges[r];
+            long long k = rowStart[range.begin];
+            for (int i = range.begin; i < range.end; i++)
+                for (; k < rowStart[i+1]; k++) {
+                    // The nearest image's offset, d = r_j - r_i.
+                    const int j = range.neighbours[k-rowStart[range.begin]];
+                    const Vec3 s = fractional[j]-fractional[i];
+                    const Vec3 d = box[0]*nearest(s[0])+box[1]*nearest(s[1])+box[2]*nearest(s[2]);
+                    const double r2 = d.dot(d);
+                    storePair(pairs[k], i, j, d, std::sqrt(r2));
+                }
+            vector<int>().swap(range.neighbours);
         }
     });
+}
+
+template <class Real>
+void PseRealSpace::storePair(Pair<Real>& pair, int i, int j, const Vec3& d, double r) const {
+    pair.j = j;
+    double isotropic, dyadicPerR2;
+    table.realSpace(r, sortedGroup[i], sortedGroup[j], isotropic, dyadicPerR2);
+    pair.isotropic = (Real) isotropic;
+    pair.dyadicPerR2 = (Real) dyadicPerR2;
+    for (int c = 0; c < 3; c++)
+        pair.d[c] = (Real) d[c];
 }
 
 void PseRealSpace::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out, const ParallelFor& parallel) const {

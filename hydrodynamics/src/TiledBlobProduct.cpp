@@ -1,4 +1,5 @@
 #include "internal/TiledBlobProduct.h"
+#include "internal/TargetClones.h"
 #include "internal/RotnePragerBlake.h"
 #include "internal/RotnePragerYamakawa.h"
 #include "TiledBlobPairs.h"
@@ -13,14 +14,6 @@ using std::vector;
 
 namespace {
 
-// The pair loop in two builds, one for CPUs with AVX2 and FMA (x86-64-v3) and one for the baseline,
-// chosen when the library is loaded (GCC's target_clones, as the host step's loop); flatten
-// compiles what it calls into each build. Other compilers build the baseline.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__ELF__)
-#define RIGIDLANGEVIN_TILED_CLONES __attribute__((target_clones("arch=x86-64-v3", "default"), flatten))
-#else
-#define RIGIDLANGEVIN_TILED_CLONES
-#endif
 
 /** Rows summed together over one tile: their partial sums stay in L1 while the tile is read. */
 const int RowBlock = 32;
@@ -80,20 +73,20 @@ template <class Real> LANES_INLINE void addTilePair(const Blobs<Real>& b, int ro
         addTilePair<Real, false>(b, rowBegin, rowEnd, columnBegin, columnEnd, rowSums, columnSums);
 }
 
-RIGIDLANGEVIN_TILED_CLONES void addRowsInDouble(const Blobs<double>& b, int begin, int end, int sourceBegin, int sourceEnd, double* sums) {
+RIGIDLANGEVIN_CLONES void addRowsInDouble(const Blobs<double>& b, int begin, int end, int sourceBegin, int sourceEnd, double* sums) {
     addRows(b, begin, end, sourceBegin, sourceEnd, sums);
 }
 
-RIGIDLANGEVIN_TILED_CLONES void addRowsInSingle(const Blobs<float>& b, int begin, int end, int sourceBegin, int sourceEnd, double* sums) {
+RIGIDLANGEVIN_CLONES void addRowsInSingle(const Blobs<float>& b, int begin, int end, int sourceBegin, int sourceEnd, double* sums) {
     addRows(b, begin, end, sourceBegin, sourceEnd, sums);
 }
 
-RIGIDLANGEVIN_TILED_CLONES void addTilePairInDouble(const Blobs<double>& b, int rowBegin, int rowEnd, int columnBegin, int columnEnd, double* rowSums,
+RIGIDLANGEVIN_CLONES void addTilePairInDouble(const Blobs<double>& b, int rowBegin, int rowEnd, int columnBegin, int columnEnd, double* rowSums,
                                                     double* columnSums) {
     addTilePair(b, rowBegin, rowEnd, columnBegin, columnEnd, rowSums, columnSums);
 }
 
-RIGIDLANGEVIN_TILED_CLONES void addTilePairInSingle(const Blobs<float>& b, int rowBegin, int rowEnd, int columnBegin, int columnEnd, double* rowSums,
+RIGIDLANGEVIN_CLONES void addTilePairInSingle(const Blobs<float>& b, int rowBegin, int rowEnd, int columnBegin, int columnEnd, double* rowSums,
                                                     double* columnSums) {
     addTilePair(b, rowBegin, rowEnd, columnBegin, columnEnd, rowSums, columnSums);
 }

@@ -24,7 +24,8 @@ class PseRealSpace {
 public:
     typedef KrylovSolvers::ParallelFor ParallelFor;
     /**
-     * Find and store the pairs, blob i of radius groupRadii[group[i]]. checkPairs(numPairs) is
+     * Find and store the pairs, blob i of radius groupRadii[group[i]], in one search (its neighbours
+     * held at 4 bytes a pair until the terms are stored). checkPairs(numPairs) is
      * called once they are counted and before they are stored (it throws if they would not fit the
      * memory budget).
      */
@@ -62,14 +63,20 @@ public:
         return doublePairs;
     }
 private:
+    /** The neighbours of rows [begin, end), row by row, as the search found them. */
+    struct NeighbourRange {
+        int begin, end;
+        std::vector<int> neighbours;
+    };
+    /** Store the pairs' terms from the ranges' neighbours (freeing them as it goes). */
     template <class Real>
-    void storePairs(std::vector<Pair<Real>>& pairs, const ParallelFor& parallel);
+    void storePairs(std::vector<Pair<Real>>& pairs, std::vector<NeighbourRange>& ranges, const ParallelFor& parallel);
+    template <class Real>
+    void storePair(Pair<Real>& pair, int i, int j, const OpenMM::Vec3& d, double r) const;
     template <class Real>
     void multiplyRows(const std::vector<Pair<Real>>& pairs, const Eigen::VectorXd& sorted, Eigen::VectorXd& out, const ParallelFor& parallel) const;
-    /** Call visit(j, d, r) for every blob j != i (both in the cells' order) within i's pair cutoff,
-     *  d the nearest image's offset. */
-    template <class Visit>
-    void forEachNeighbour(int i, const Visit& visit) const;
+    /** Append to out every blob j != i (both in the cells' order) within i's pair cutoff, in the cells' order. */
+    void appendNeighbours(int i, std::vector<int>& out) const;
     void buildCells(const std::vector<OpenMM::Vec3>& positions, double maxRadius);
     OpenMM::Vec3 box[3], inverse[3];  // inverse[d].r = fractional coordinate d
     double cutoffBeyondContact;
@@ -78,6 +85,7 @@ private:
     std::vector<int> sortedGroup;     // by the cells' order
     std::vector<double> sortedRadius, self;
     std::vector<OpenMM::Vec3> fractional;
+    std::vector<double> scaled[3];    // the fractional coordinates again, one array per axis (the search's vector loads)
     int numCells[3];
     std::vector<int> cellStart;
     std::vector<long long> rowStart;

@@ -8,21 +8,13 @@
 #include "openmm/reference/SimTKOpenMMRealType.h"
 #include "internal/BodyDynamics.h"
 #include "internal/RigidLangevinStepKernelBase.h"
+#include "internal/TargetClones.h"
 #include "openmm/internal/ContextImpl.h"
 #include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <vector>
-
-// The host step's per-body loop in two builds, one for CPUs with AVX2 and FMA (x86-64-v3) and one
-// for the baseline, chosen by the CPU when the library is loaded (GCC's target_clones, an ELF ifunc);
-// flatten compiles everything it calls inline into each build. Other compilers build the baseline.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__ELF__)
-#define RIGIDLANGEVIN_HOST_CLONES __attribute__((target_clones("arch=x86-64-v3", "default"), flatten))
-#else
-#define RIGIDLANGEVIN_HOST_CLONES
-#endif
 
 namespace RigidLangevinPlugin {
 
@@ -161,8 +153,8 @@ protected:
     std::vector<std::unique_ptr<RandomStream> > random;  // one per chunk
 private:
     std::unique_ptr<HostBlobMobility> hostMobility;  // the blobs' mobility for matrix-free steps, on this platform's threads
-    /** Advance bodies [begin, end) by one step, drawing from rng (in two builds: RIGIDLANGEVIN_HOST_CLONES). */
-    RIGIDLANGEVIN_HOST_CLONES
+    /** Advance bodies [begin, end) by one step, drawing from rng (in two builds: RIGIDLANGEVIN_CLONES). */
+    RIGIDLANGEVIN_CLONES
     void advanceBodies(int begin, int end, Random& rng, RigidLangevinIntegrator::Scheme scheme, double h, bool frictionless,
                        bool removeMotion, OpenMM::Vec3 centerOfMassVelocity) {
         for (int b = begin; b < end; b++) {
