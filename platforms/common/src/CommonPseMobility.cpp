@@ -84,7 +84,8 @@ void CommonPseMobility::setTolerance(double tolerance) {
 void CommonPseMobility::setBlobs(const vector<Vec3>& positions, const vector<double>& radii, const Vec3* boxVectors) {
     SpectralBlobMobility::setBlobs(positions, radii, boxVectors);
     numBlobs = positions.size();
-    onDevice = (numBlobs > 0 && (cc.getUseDoublePrecision() || tolerance >= SinglePrecisionTolerance));
+    // The kernels sum in double (and read the forces and Fourier factors in it): a device without it keeps the host's products.
+    onDevice = (numBlobs > 0 && cc.getSupportsDoublePrecision() && (cc.getUseDoublePrecision() || tolerance >= SinglePrecisionTolerance));
     if (!onDevice)
         return;
     const PositivelySplitEwald& pse = getProduct();

@@ -23,13 +23,17 @@ struct PseParameters;
  * uploaded then, and every product runs on the device: real-space rows, spreading by fixed-point
  * atomic adds, three FFTs per radius group each way, the Fourier factors, interpolation. The solver's
  * Krylov iterations run on the host, as for the other products, so that every platform takes the
- * same steps; a product moves the force and the velocity (3 doubles a blob each way).
+ * same steps; a product moves the force and the velocity (3 doubles a blob each way). The PSE's own
+ * noise (sampleNoise(), RigidBrownianIntegrator's, exact through the split) is the base class's, on
+ * the host: a Lanczos on the sparse real-space part and one transform of the grid.
  *
  * Precision: the real-space pairs as the host stores them (float from epsilon 1e-4 up), summed in
  * double; the grid, the FFTs and interpolation in the context's precision (float in single and
  * mixed). Where that is float and the tolerance is tighter than SinglePrecisionTolerance (float's
  * rounding in the FFTs would reach it), where in a triclinic box the Gaussians' factors would near
- * float's range, or where the device's FFT cannot take the grid, the products are the host's (the base class's), so that the tolerance holds on every device.
+ * float's range, where the device's FFT cannot take the grid, or where the device has no double
+ * precision (its sums are in double), the products are the host's (the base class's), so that the
+ * tolerance holds on every device.
  */
 class CommonPseMobility : public SpectralBlobMobility {
 public:
