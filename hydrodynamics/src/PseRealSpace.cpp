@@ -180,20 +180,22 @@ void PseRealSpace::storePairs(vector<Pair<Real>>& pairs, vector<NeighbourRange>&
         pairs.reserve(numPairs+numPairs/100);
     }
     pairs.resize(numPairs);
-    parallel(ranges.size(), [&] (int begin, int end) {
-        for (int r = begin; r < end; r++) {
-            NeighbourRange& range = ranges[r];
-            long long k = rowStart[range.begin];
-            for (int i = range.begin; i < range.end; i++)
-                for (; k < rowStart[i+1]; k++) {
-                    // The nearest image's offset, d = r_j - r_i.
-                    const int j = range.neighbours[k-rowStart[range.begin]];
-                    const Vec3 s = fractional[j]-fractional[i];
-                    const Vec3 d = box[0]*nearest(s[0])+box[1]*nearest(s[1])+box[2]*nearest(s[2]);
-                    const double r2 = d.dot(d);
-                    storePair(pairs[k], i, j, d, std::sqrt(r2));
-                }
-            vector<int>().swap(range.neighbours);
+    // Shared out by rows (there may be fewer ranges than threads would take), each row's neighbours
+    // found in the range that holds it.
+    std::sort(ranges.begin(), ranges.end(), [] (const NeighbourRange& a, const NeighbourRange& b) { return a.begin < b.begin; });
+    parallel(self.size(), [&] (int begin, int end) {
+        size_t r = std::upper_bound(ranges.begin(), ranges.end(), begin, [] (int row, const NeighbourRange& range) { return row < range.begin; })-ranges.begin()-1;
+        for (int i = begin; i < end; i++) {
+            while (i >= ranges[r].end)
+                r++;
+            const int* neighbours = ranges[r].neighbours.data()-rowStart[ranges[r].begin];
+            for (long long k = rowStart[i]; k < rowStart[i+1]; k++) {
+                // The nearest image's offset, d = r_j - r_i.
+                const int j = neighbours[k];
+                const Vec3 s = fractional[j]-fractional[i];
+                const Vec3 d = box[0]*nearest(s[0])+box[1]*nearest(s[1])+box[2]*nearest(s[2]);
+                storePair(pairs[k], i, j, d, std::sqrt(d.dot(d)));
+            }
         }
     });
 }

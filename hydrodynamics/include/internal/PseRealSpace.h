@@ -68,7 +68,7 @@ private:
         int begin, end;
         std::vector<int> neighbours;
     };
-    /** Store the pairs' terms from the ranges' neighbours (freeing them as it goes). */
+    /** Store the pairs' terms from the ranges' neighbours. */
     template <class Real>
     void storePairs(std::vector<Pair<Real>>& pairs, std::vector<NeighbourRange>& ranges, const ParallelFor& parallel);
     template <class Real>
