@@ -47,14 +47,12 @@ void PseRealSpace::buildCells(const vector<Vec3>& positions, double maxRadius) {
     for (int c = 0; c+1 < (int) cellStart.size(); c++)
         cellStart[c+1] += cellStart[c];
     order.resize(n);
-    fractional.resize(n);
     vector<int> next(cellStart.begin(), cellStart.end()-1);
     for (int d = 0; d < 3; d++)
         scaled[d].resize(n);
     for (int i = 0; i < n; i++) {
         const int k = next[blobCell[i]]++;
         order[k] = i;
-        fractional[k] = blobFractional[i];
         for (int d = 0; d < 3; d++)
             scaled[d][k] = blobFractional[i][d];
     }
@@ -63,7 +61,7 @@ void PseRealSpace::buildCells(const vector<Vec3>& positions, double maxRadius) {
 RIGIDLANGEVIN_CLONES void PseRealSpace::appendNeighbours(int i, vector<int>& out) const {
     int cell[3];
     for (int d = 0; d < 3; d++)
-        cell[d] = std::min(numCells[d]-1, (int) (fractional[i][d]*numCells[d]));
+        cell[d] = std::min(numCells[d]-1, (int) (scaled[d][i]*numCells[d]));
     // The distinct neighbouring cells along each axis (fewer than three where there are fewer cells).
     int neighbours[3][3], numNeighbours[3];
     for (int d = 0; d < 3; d++) {
@@ -83,7 +81,7 @@ RIGIDLANGEVIN_CLONES void PseRealSpace::appendNeighbours(int i, vector<int>& out
     const double* sy = scaled[1].data();
     const double* sz = scaled[2].data();
     const double* radius = sortedRadius.data();
-    const double fi[3] = {fractional[i][0], fractional[i][1], fractional[i][2]}, reach = sortedRadius[i]+cutoffBeyondContact;
+    const double fi[3] = {scaled[0][i], scaled[1][i], scaled[2][i]}, reach = sortedRadius[i]+cutoffBeyondContact;
     const double b00 = box[0][0], b01 = box[0][1], b02 = box[0][2], b10 = box[1][0], b11 = box[1][1], b12 = box[1][2];
     const double b20 = box[2][0], b21 = box[2][1], b22 = box[2][2];
     for (int u = 0; u < numNeighbours[0]; u++)
@@ -192,7 +190,7 @@ void PseRealSpace::storePairs(vector<Pair<Real>>& pairs, vector<NeighbourRange>&
             for (long long k = rowStart[i]; k < rowStart[i+1]; k++) {
                 // The nearest image's offset, d = r_j - r_i.
                 const int j = neighbours[k];
-                const Vec3 s = fractional[j]-fractional[i];
+                const Vec3 s(scaled[0][j]-scaled[0][i], scaled[1][j]-scaled[1][i], scaled[2][j]-scaled[2][i]);
                 const Vec3 d = box[0]*nearest(s[0])+box[1]*nearest(s[1])+box[2]*nearest(s[2]);
                 storePair(pairs[k], i, j, d, std::sqrt(d.dot(d)));
             }

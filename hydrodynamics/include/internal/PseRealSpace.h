@@ -84,8 +84,7 @@ private:
     std::vector<int> order;           // order[k] = the blob k-th in the cells' order
     std::vector<int> sortedGroup;     // by the cells' order
     std::vector<double> sortedRadius, self;
-    std::vector<OpenMM::Vec3> fractional;
-    std::vector<double> scaled[3];    // the fractional coordinates again, one array per axis (the search's vector loads)
+    std::vector<double> scaled[3];    // the blobs' fractional coordinates in the cells' order, one array per axis (the search's vector loads)
     int numCells[3];
     std::vector<int> cellStart;
     std::vector<long long> rowStart;

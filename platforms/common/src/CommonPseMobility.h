@@ -64,7 +64,7 @@ private:
     double tolerance;
     bool onDevice, doublePairs, compiled, triclinic;
     int numBlobs, numGroups, support, grid[3];
-    double maxWeight;  ///< the largest product of a blob's Gaussian factors: bounds the fixed-point sums
+    double maxWeight;  ///< the Gaussian's peak, the largest weight a blob gives a grid point: bounds the fixed-point sums
     std::vector<int> groupStart;
     OpenMM::FFT3D fft;
     OpenMM::ComputeKernel gatherKernel, rowsKernel, spreadKernel, toRealKernel, scaleKernel, factorsKernel, interpolateKernel;

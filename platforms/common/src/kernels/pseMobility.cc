@@ -6,7 +6,7 @@
  * rounding only.
  *
  * Real space: rows of pairs in the cells' order (pseGatherForces, pseRealSpaceRows), the pair terms
- * in PSE_PAIR_REAL (float from epsilon 1e-4 up, as the host stores them), each row summed in
+ * in pse_pair_real (double if PSE_DOUBLE_PAIRS; float from epsilon 1e-4 up, as the host stores them), each row summed in
  * double. Wave space: each blob's Gaussian spread onto the grid by 64-bit fixed-point atomic adds
  * (pseSpread: exact integer sums, so the grid does not depend on the order the adds come in; the
  * scale is a power of two chosen per product so that no point can overflow), converted to the
