@@ -1,4 +1,5 @@
 #include "CommonBlobMobility.h"
+#include "CommonArrays.h"
 #include "CommonRigidLangevinKernelSources.h"
 #include "openmm/OpenMMException.h"
 #include "internal/TiledBlobProduct.h"
@@ -67,18 +68,10 @@ void CommonBlobMobility::setBlobs(const vector<Vec3>& positions, const vector<do
     const int wantedParts = std::min(numTiles, (wantedGroups+numTiles-1)/numTiles);
     tilesPerPart = (numTiles+wantedParts-1)/wantedParts;
     numParts = (numTiles+tilesPerPart-1)/tilesPerPart;
-    if (!blobs.isInitialized()) {
-        blobs.initialize<double>(cc, 4*size, "rigidBodyBlobs");
-        force.initialize<double>(cc, 3*size, "rigidBodyBlobForce");
-        velocity.initialize<double>(cc, 3*size, "rigidBodyBlobVelocity");
-        parts.initialize<double>(cc, 3*size*numParts, "rigidBodyBlobVelocityParts");
-    }
-    else if ((int) blobs.getSize() != 4*size || (int) parts.getSize() != 3*size*numParts) {
-        blobs.resize(4*size);
-        force.resize(3*size);
-        velocity.resize(3*size);
-        parts.resize(3*size*numParts);
-    }
+    fitArray(cc, blobs, 4*size, sizeof(double), "rigidBodyBlobs", ArrayFit::Exact);
+    fitArray(cc, force, 3*size, sizeof(double), "rigidBodyBlobForce", ArrayFit::Exact);
+    fitArray(cc, velocity, 3*size, sizeof(double), "rigidBodyBlobVelocity", ArrayFit::Exact);
+    fitArray(cc, parts, 3*size*numParts, sizeof(double), "rigidBodyBlobVelocityParts", ArrayFit::Exact);
     single = singleRequested && TiledBlobProduct::radiiFitSinglePrecision(radii.data(), numBlobs);
     lengthScale = (single ? TiledBlobProduct::powerOfTwoAbove(radii.data(), numBlobs) : 1.0);
     bindProductKernel();

@@ -1,4 +1,5 @@
 #include "CommonPseMobility.h"
+#include "CommonArrays.h"
 #include "CommonRigidLangevinKernelSources.h"
 #include "internal/PseParameters.h"
 #include "internal/PseRealSpace.h"
@@ -7,6 +8,7 @@
 #include "openmm/common/ContextSelector.h"
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 using namespace RigidLangevinPlugin;
 using namespace OpenMM;
@@ -16,18 +18,6 @@ using std::vector;
 static_assert(sizeof(PseRealSpace::Pair<float>) == 24 && sizeof(PseRealSpace::Pair<double>) == 48, "PsePair's layout");
 
 namespace {
-
-/** array holds at least size elements (exactly size if exact), allocated or grown as needed; true if (re)allocated. */
-bool ensure(ComputeContext& cc, ComputeArray& array, size_t size, int elementSize, const char* name, bool exact = false) {
-    size = std::max(size, (size_t) 1);
-    if (!array.isInitialized())
-        array.initialize(cc, size, elementSize, name);
-    else if (array.getSize() < size || (exact && array.getSize() != size))
-        array.resize(size);
-    else
-        return false;
-    return true;
-}
 
 void setArgs(ComputeKernel&, int) {
 }
@@ -44,6 +34,11 @@ ComputeKernel createKernel(ComputeProgram& program, const char* name, int numArg
     for (int k = 0; k < numArgs; k++)
         kernel->addArg();
     return kernel;
+}
+
+/** The bytes of the real-space pairs as the host stores them (float or double terms). */
+size_t pairBytes(const PseRealSpace& real) {
+    return real.getSinglePairs().size()*sizeof(PseRealSpace::Pair<float>)+real.getDoublePairs().size()*sizeof(PseRealSpace::Pair<double>);
 }
 
 /** values in the context's real type (float unless in double precision), for upload. */
@@ -96,16 +91,17 @@ void CommonPseMobility::setBlobs(const vector<Vec3>& positions, const vector<dou
             return;
         }
     const PseWaveSpace& wave = pse.getWaveSpace();
-    if (!cc.getUseDoublePrecision() && !fitsSinglePrecision(wave.getGaussians())) {
+    numGroups = wave.getGaussians().getGroupStart().size()-1;
+    if ((!cc.getUseDoublePrecision() && !fitsSinglePrecision(wave.getGaussians())) ||
+            !fitsIntCounts(pairBytes(pse.getRealSpace())/4, p.grid, numGroups, numBlobs, p.support)) {
         onDevice = false;
         return;
     }
     ContextSelector selector(cc);
-    numGroups = wave.getGaussians().getGroupStart().size()-1;
     prepareGrid(p, numGroups);
-    ensure(cc, force, 3*numBlobs, sizeof(double), "pseForce", true);
-    ensure(cc, sortedForce, 3*numBlobs, sizeof(double), "pseSortedForce", true);
-    ensure(cc, velocity, 3*numBlobs, sizeof(double), "pseVelocity", true);
+    fitArray(cc, force, 3*numBlobs, sizeof(double), "pseForce", ArrayFit::Exact);
+    fitArray(cc, sortedForce, 3*numBlobs, sizeof(double), "pseSortedForce", ArrayFit::Exact);
+    fitArray(cc, velocity, 3*numBlobs, sizeof(double), "pseVelocity", ArrayFit::Exact);
     uploadRealSpace(pse.getRealSpace());
     uploadGaussians(wave.getGaussians(), p.support);
     // The largest weight a blob gives a grid point, the Gaussian's peak (the factors' bound is far looser in a triclinic box).
@@ -114,18 +110,25 @@ void CommonPseMobility::setBlobs(const vector<Vec3>& positions, const vector<dou
     compileKernels(!PseParameterChoice::singlePrecisionPairs(p.tolerance));
 }
 
+bool CommonPseMobility::fitsIntCounts(size_t pairWords, const int grid[3], int numGroups, size_t numBlobs, int support) {
+    const size_t most = std::numeric_limits<int>::max();
+    const size_t points = (size_t) grid[0]*grid[1]*grid[2], modes = (size_t) grid[0]*grid[1]*(grid[2]/2+1);
+    // The grid's three components share one accumulator; the sincs hold one spectrum a radius group.
+    return pairWords <= most && 3*points <= most && numGroups*modes <= most && 3*numBlobs <= most && numBlobs*support*support <= most;
+}
+
 void CommonPseMobility::prepareGrid(const PseParameters& p, int groups) {
     const bool sameGrid = (fft && std::equal(grid, grid+3, p.grid));
     std::copy(p.grid, p.grid+3, grid);
     const size_t points = (size_t) grid[0]*grid[1]*grid[2], modes = (size_t) grid[0]*grid[1]*(grid[2]/2+1);
     // The FFT's arrays are complex (its input is its workspace), in the context's precision.
     const int complexSize = 2*(cc.getUseDoublePrecision() ? sizeof(double) : sizeof(float));
-    if (ensure(cc, accumulator, 3*points, sizeof(long long), "pseAccumulator"))
+    if (fitArray(cc, accumulator, 3*points, sizeof(long long), "pseAccumulator", ArrayFit::AtLeast))
         cc.clearBuffer(accumulator);
     for (int c = 0; c < 3; c++) {
-        ensure(cc, realGrid[c], points, complexSize, "pseRealGrid");
-        ensure(cc, spectrum[c], points, complexSize, "pseSpectrum");
-        ensure(cc, summed[c], groups > 1 ? modes : 1, complexSize, "pseSummedSpectrum");
+        fitArray(cc, realGrid[c], points, complexSize, "pseRealGrid", ArrayFit::AtLeast);
+        fitArray(cc, spectrum[c], points, complexSize, "pseSpectrum", ArrayFit::AtLeast);
+        fitArray(cc, summed[c], groups > 1 ? modes : 1, complexSize, "pseSummedSpectrum", ArrayFit::AtLeast);
     }
     if (!sameGrid)
         fft = cc.createFFT(grid[0], grid[1], grid[2], true);
@@ -133,16 +136,16 @@ void CommonPseMobility::prepareGrid(const PseParameters& p, int groups) {
 
 void CommonPseMobility::uploadRealSpace(const PseRealSpace& real) {
     const vector<int>& sortedOrder = real.getOrder();
-    ensure(cc, order, numBlobs, sizeof(int), "pseOrder");
+    fitArray(cc, order, numBlobs, sizeof(int), "pseOrder", ArrayFit::AtLeast);
     order.uploadSubArray(sortedOrder.data(), 0, numBlobs);
-    ensure(cc, self, numBlobs, sizeof(double), "pseSelf");
+    fitArray(cc, self, numBlobs, sizeof(double), "pseSelf", ArrayFit::AtLeast);
     self.uploadSubArray(real.getSelf().data(), 0, numBlobs);
-    ensure(cc, rowStart, numBlobs+1, sizeof(long long), "pseRowStart");
+    fitArray(cc, rowStart, numBlobs+1, sizeof(long long), "pseRowStart", ArrayFit::AtLeast);
     rowStart.uploadSubArray(real.getRowStart().data(), 0, numBlobs+1);
     // The pairs as 4-byte words, whichever their precision, so that the array's type never changes.
     const void* data = (real.getSinglePairs().empty() ? (const void*) real.getDoublePairs().data() : (const void*) real.getSinglePairs().data());
-    const size_t bytes = real.getSinglePairs().size()*sizeof(PseRealSpace::Pair<float>)+real.getDoublePairs().size()*sizeof(PseRealSpace::Pair<double>);
-    ensure(cc, pairs, bytes/4, 4, "pseRealSpacePairs");
+    const size_t bytes = pairBytes(real);
+    fitArray(cc, pairs, bytes/4, 4, "pseRealSpacePairs", ArrayFit::AtLeast);
     if (bytes > 0)
         pairs.uploadSubArray(data, 0, bytes/4);
 }
@@ -150,28 +153,28 @@ void CommonPseMobility::uploadRealSpace(const PseRealSpace& real) {
 void CommonPseMobility::uploadGaussians(const PseGaussianGrid& gaussians, int p) {
     support = p;
     groupStart = gaussians.getGroupStart();
-    ensure(cc, groupBlobs, numBlobs, sizeof(int), "pseGroupBlobs");
+    fitArray(cc, groupBlobs, numBlobs, sizeof(int), "pseGroupBlobs", ArrayFit::AtLeast);
     groupBlobs.uploadSubArray(gaussians.getGroupBlobs().data(), 0, numBlobs);
-    ensure(cc, base, 3*numBlobs, sizeof(int), "pseSupportBase");
+    fitArray(cc, base, 3*numBlobs, sizeof(int), "pseSupportBase", ArrayFit::AtLeast);
     base.uploadSubArray(gaussians.getBase().data(), 0, 3*numBlobs);
     const bool useDouble = cc.getUseDoublePrecision();
     const int realSize = (useDouble ? sizeof(double) : sizeof(float));
     const vector<double>& w = gaussians.getFactors();
-    ensure(cc, factors, w.size(), realSize, "pseGaussianFactors");
+    fitArray(cc, factors, w.size(), realSize, "pseGaussianFactors", ArrayFit::AtLeast);
     factors.uploadSubArray(asReal(w, useDouble).data(), 0, w.size());
     const vector<double> shared = gaussians.getCrossFactors();
     triclinic = !shared.empty();
-    ensure(cc, cross, shared.size(), realSize, "pseCrossFactors");
+    fitArray(cc, cross, shared.size(), realSize, "pseCrossFactors", ArrayFit::AtLeast);
     if (!shared.empty())
         cross.uploadSubArray(asReal(shared, useDouble).data(), 0, shared.size());
 }
 
 void CommonPseMobility::uploadWaveFactors(const PseWaveSpace& wave, int groups) {
     const vector<double>& factor = wave.getFactors();
-    ensure(cc, fourierFactor, factor.size(), sizeof(double), "pseFourierFactors");
+    fitArray(cc, fourierFactor, factor.size(), sizeof(double), "pseFourierFactors", ArrayFit::AtLeast);
     fourierFactor.uploadSubArray(factor.data(), 0, factor.size());
     const vector<double>& groupSincs = wave.getSincs();
-    ensure(cc, sincs, groups > 1 ? groupSincs.size() : 1, sizeof(double), "pseSincs");
+    fitArray(cc, sincs, groups > 1 ? groupSincs.size() : 1, sizeof(double), "pseSincs", ArrayFit::AtLeast);
     if (groups > 1)
         sincs.uploadSubArray(groupSincs.data(), 0, groupSincs.size());
     for (int d = 0; d < 3; d++)

@@ -33,7 +33,7 @@ struct PseParameters;
  * rounding in the FFTs would reach it), where in a triclinic box the Gaussians' factors would near
  * float's range, where the device's FFT cannot take the grid, or where the device has no double
  * precision (its sums are in double), the products are the host's (the base class's), so that the
- * tolerance holds on every device.
+ * tolerance holds on every device; so too where the arrays outgrow int counts (fitsIntCounts()).
  */
 class CommonPseMobility : public SpectralBlobMobility {
 public:
@@ -48,6 +48,14 @@ public:
     /** In float, the tightest tolerance the device's products take: their rounding (the grid, FFTs and interpolation in float) was
      *  8e-8 of the host's product (TestOpenCLDeviceBlobMobility, PoCL), over 100 times below. */
     static constexpr double SinglePrecisionTolerance = 1e-5;
+    /**
+     * Whether a configuration's uploads and kernel ranges count in int, as OpenMM's uploadSubArray()
+     * and the kernels' indices do: pairWords 4-byte words of real-space pairs, a grid of
+     * grid[0]*grid[1]*grid[2] points a component, numGroups radius groups, numBlobs blobs each spread
+     * over support^2 lines. Beyond them (about 3.5e8 pairs in float, a grid of 890^3) the products are
+     * the host's.
+     */
+    static bool fitsIntCounts(size_t pairWords, const int grid[3], int numGroups, size_t numBlobs, int support);
 private:
     /** The grid's arrays and FFT for these parameters (kept while the grid is the same size). */
     void prepareGrid(const PseParameters& parameters, int numGroups);

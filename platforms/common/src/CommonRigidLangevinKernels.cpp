@@ -1,4 +1,5 @@
 #include "CommonRigidLangevinKernels.h"
+#include "CommonArrays.h"
 #include <array>
 #include <memory>
 #include "RigidBodyKernelLayout.h"
@@ -58,16 +59,6 @@ void setMixed4Arg(ComputeKernel& kernel, int index, const Vec3& v, bool mixedIsD
         kernel->setArg(index, mm_double4(v[0], v[1], v[2], 0));
     else
         kernel->setArg(index, mm_float4((float) v[0], (float) v[1], (float) v[2], 0));
-}
-
-/** Initialize an array, or give it a new size if it exists (bodies can be set up twice: checkpoints). */
-template <class T>
-void initializeArray(ComputeArray& array, ComputeContext& cc, int size, const string& name) {
-    size = std::max(size, 1);
-    if (!array.isInitialized())
-        array.initialize<T>(cc, size, name);
-    else if ((int) array.getSize() != size)
-        array.resize(size);
 }
 
 } // namespace
@@ -172,12 +163,12 @@ void CommonIntegrateRigidLangevinStepKernel::initializeBodies(ContextImpl& /*con
         initializeMixedArrays<double, mm_double4>(model.getNumTypes(), coords.size());
     else
         initializeMixedArrays<float, mm_float4>(model.getNumTypes(), coords.size());
-    initializeArray<int>(bodyType, cc, numBodies, "rigidBodyType");
-    initializeArray<int>(bodyAtomStart, cc, numBodies+1, "rigidBodyAtomStart");
-    initializeArray<int>(atomSlot, cc, numEntries, "rigidBodyAtomSlot");
-    initializeArray<mm_int4>(atomCellOffset, cc, numEntries, "rigidBodyAtomCellOffset");
-    initializeArray<mm_int4>(bodyImage, cc, numBodies, "rigidBodyImage");
-    initializeArray<mm_int4>(typeInfo, cc, model.getNumTypes(), "rigidBodyTypeInfo");
+    fitArray(cc, bodyType, numBodies, sizeof(int), "rigidBodyType", ArrayFit::Exact);
+    fitArray(cc, bodyAtomStart, numBodies+1, sizeof(int), "rigidBodyAtomStart", ArrayFit::Exact);
+    fitArray(cc, atomSlot, numEntries, sizeof(int), "rigidBodyAtomSlot", ArrayFit::Exact);
+    fitArray(cc, atomCellOffset, numEntries, sizeof(mm_int4), "rigidBodyAtomCellOffset", ArrayFit::Exact);
+    fitArray(cc, bodyImage, numBodies, sizeof(mm_int4), "rigidBodyImage", ArrayFit::Exact);
+    fitArray(cc, typeInfo, model.getNumTypes(), sizeof(mm_int4), "rigidBodyTypeInfo", ArrayFit::Exact);
     if (numBodies > 0) {
         bodyType.upload(types);
         bodyAtomStart.upload(atomStart);
@@ -336,14 +327,14 @@ void CommonIntegrateRigidLangevinStepKernel::placeAtoms() {
 
 template <class Mixed, class Mixed4>
 void CommonIntegrateRigidLangevinStepKernel::initializeMixedArrays(int numTypes, int numTypeCoords) {
-    initializeArray<Mixed4>(bodyPosition, cc, numBodies, "rigidBodyPosition");
-    initializeArray<Mixed4>(bodyVelocity, cc, numBodies, "rigidBodyVelocity");
-    initializeArray<Mixed4>(bodyAngularMomentum, cc, numBodies, "rigidBodyAngularMomentum");
-    initializeArray<Mixed4>(bodyRotation, cc, numBodies, "rigidBodyRotation");
-    initializeArray<Mixed4>(typeCoords, cc, numTypeCoords, "rigidBodyTypeCoords");
-    initializeArray<Mixed>(typeParams, cc, TypeStride*std::max(1, numTypes), "rigidBodyTypeParams");
-    initializeArray<Mixed4>(centerOfMassVelocity, cc, 1, "rigidBodyCenterOfMassVelocity");
-    initializeArray<Mixed4>(kineticEnergies, cc, 2*numReductionGroups, "rigidBodyKineticEnergies");
+    fitArray(cc, bodyPosition, numBodies, sizeof(Mixed4), "rigidBodyPosition", ArrayFit::Exact);
+    fitArray(cc, bodyVelocity, numBodies, sizeof(Mixed4), "rigidBodyVelocity", ArrayFit::Exact);
+    fitArray(cc, bodyAngularMomentum, numBodies, sizeof(Mixed4), "rigidBodyAngularMomentum", ArrayFit::Exact);
+    fitArray(cc, bodyRotation, numBodies, sizeof(Mixed4), "rigidBodyRotation", ArrayFit::Exact);
+    fitArray(cc, typeCoords, numTypeCoords, sizeof(Mixed4), "rigidBodyTypeCoords", ArrayFit::Exact);
+    fitArray(cc, typeParams, TypeStride*std::max(1, numTypes), sizeof(Mixed), "rigidBodyTypeParams", ArrayFit::Exact);
+    fitArray(cc, centerOfMassVelocity, 1, sizeof(Mixed4), "rigidBodyCenterOfMassVelocity", ArrayFit::Exact);
+    fitArray(cc, kineticEnergies, 2*numReductionGroups, sizeof(Mixed4), "rigidBodyKineticEnergies", ArrayFit::Exact);
 }
 
 template <class Mixed, class Mixed4>
