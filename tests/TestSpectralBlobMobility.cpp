@@ -90,11 +90,23 @@ TEST(SpectralBlobMobility, RefusalsNameTheIntegratorsSettings) {
     EXPECT_NE(message.find("more than the memory budget of 0.0009766 GiB"), std::string::npos) << message;
     EXPECT_NE(message.find("raise setHydrodynamicMemoryBudget()"), std::string::npos) << message;
     EXPECT_NE(message.find("loosen setHydrodynamicTolerance()"), std::string::npos) << message;
-    // Blobs of radius 0.5 nm in a box 1.9 nm wide: no real-space cutoff fits.
+    EXPECT_EQ(message.find("KrylovSolver"), std::string::npos) << message;  // the dense sum needs more memory still
+    // Blobs of radius 0.5 nm in a box 1.9 nm wide: no real-space cutoff fits, and no setting but the box helps.
     randomBlobs(4, 1.9, positions, radii, box);
     message = refusal([&] { spectral.setBlobs(positions, radii, box); });
     EXPECT_NE(message.find("too small for blobs of radius 0.5 nm"), std::string::npos) << message;
     EXPECT_NE(message.find("a bigger box"), std::string::npos) << message;
+    EXPECT_EQ(message.find("setHydrodynamicMemoryBudget"), std::string::npos) << message;
+    EXPECT_EQ(message.find("setHydrodynamicTolerance"), std::string::npos) << message;
+    // Five distinct radii where the PSE takes four: the radii or the dense solver, not the budget.
+    randomBlobs(60, 12.0, positions, radii, box);
+    for (int i = 0; i < 60; i++)
+        radii[i] = 0.3+0.05*(i%5);
+    message = refusal([&] { spectral.setBlobs(positions, radii, box); });
+    EXPECT_NE(message.find("5 distinct radii"), std::string::npos) << message;
+    EXPECT_NE(message.find("at most 4 distinct radii (setParticleRadius(), setBodyBlobs())"), std::string::npos) << message;
+    EXPECT_NE(message.find("setHydrodynamicSolver(KrylovSolver)"), std::string::npos) << message;
+    EXPECT_EQ(message.find("setHydrodynamicMemoryBudget"), std::string::npos) << message;
 }
 
 namespace {

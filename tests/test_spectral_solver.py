@@ -60,12 +60,15 @@ def langevin(temperature=300, viscosity=500.0):
     return integrator
 
 
-def one_step(platform, make_integrator, solver, tolerance, count=60):
-    """The displacements and velocities of one step of count spheres (radius 0.5 nm, 5% volume
-    fraction), each pulled by a force of its own (random, fixed)."""
+def one_step(platform, make_integrator, solver, tolerance, count=60, radii=(0.5,)):
+    """The displacements and velocities of one step of count spheres (placed as radius 0.5 nm at 5%
+    volume fraction; sphere i of radius radii[i % len(radii)]), each pulled by a force of its own
+    (random, fixed)."""
     side, centres = random_spheres(count, 0.05, 0.5, np.random.default_rng(3))
     integrator = make_integrator()
     system = periodic_spheres(integrator, count, side, 0.5)
+    for i in range(count):
+        integrator.setParticleRadius(i, radii[i % len(radii)])
     pull = mm.CustomExternalForce('-(fx*x+fy*y+fz*z)')
     for name in ('fx', 'fy', 'fz'):
         pull.addPerParticleParameter(name)
@@ -221,6 +224,35 @@ def test_a_box_too_small_for_the_blobs_is_refused():
     integrator.setHydrodynamicSolver(integrator.SpectralSolver)
     with pytest.raises(mm.OpenMMException, match='half the box'):
         stepped_with(integrator, 2, 1.8)
+
+
+def test_more_radii_than_the_spectral_products_take_are_refused_naming_the_radii():
+    # Polydisperse spheres, five radii: the positively split Ewald sum takes four (two FFTs per product each).
+    integrator = langevin()
+    integrator.setHydrodynamicSolver(integrator.SpectralSolver)
+    system = periodic_spheres(integrator, 40, 12.0, 0.5)
+    for i in range(40):
+        integrator.setParticleRadius(i, 0.3+0.05*(i % 5))
+    context = mm.Context(system, integrator, mm.Platform.getPlatformByName('CPU'))
+    context.setPositions([mm.Vec3(i % 4, i//4 % 4, i//16)*3.0 for i in range(40)])
+    with pytest.raises(mm.OpenMMException, match=r'5 distinct radii.*From the integrator: give the blobs at most 4 distinct radii '
+                                                 r'\(setParticleRadius\(\), setBodyBlobs\(\)\), or setHydrodynamicSolver\(KrylovSolver\)') as refused:
+        integrator.step(1)
+    assert 'setHydrodynamicMemoryBudget' not in str(refused.value)
+
+
+@pytest.mark.parametrize('radii, chosen', [((0.3, 0.35, 0.4, 0.45), rl.RigidLangevinIntegrator.SpectralSolver),
+                                           ((0.3, 0.35, 0.4, 0.45, 0.5), rl.RigidLangevinIntegrator.KrylovSolver)],
+                         ids=['four-radii', 'five-radii'])
+def test_the_automatic_solver_takes_the_spectral_products_only_for_radii_they_take(radii, chosen):
+    # At 500 blobs in a periodic box AutomaticSolver takes the positively split Ewald products, which
+    # take at most four distinct radii; with five it keeps the dense Ewald sum (it chose the spectral
+    # products and the step was refused). Same seed: the step is, bit for bit, the chosen solver's.
+    cpu = PlatformChoice('CPU', mm.Platform.getPlatformByName('CPU'), {})
+    automatic = one_step(cpu, langevin, rl.RigidLangevinIntegrator.AutomaticSolver, 1e-4, count=500, radii=radii)
+    peer = one_step(cpu, langevin, chosen, 1e-4, count=500, radii=radii)
+    for a, p in zip(automatic, peer):
+        assert np.array_equal(a, p)
 
 
 def test_a_step_beyond_the_memory_budget_is_refused():

@@ -68,7 +68,7 @@ void PositivelySplitEwald::setBlobs(const vector<Vec3>& positions, const vector<
     std::sort(distinct.begin(), distinct.end());
     distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
     if ((int) distinct.size() > MaxRadii)
-        throw OpenMMException("PositivelySplitEwald: the blobs have "+std::to_string(distinct.size())+" distinct radii; at most "+
+        throw PseRefusal(PseRefusal::TooManyRadii, "PositivelySplitEwald: the blobs have "+std::to_string(distinct.size())+" distinct radii; at most "+
                 std::to_string(MaxRadii)+" are supported (each costs two FFTs per product): give the blobs at most "+std::to_string(MaxRadii)+
                 " radii, or use the dense PeriodicRotnePragerYamakawa");
     vector<int> group(radii.size());

@@ -170,7 +170,7 @@ void PseParameterChoice::checkBudget(const PseParameters& p, const PseBlobSummar
     const double grid = gridBytes(p, blobs), pairs = numPairs*bytesPerPair(p.tolerance);
     if (grid+pairs <= budget)
         return;
-    throw OpenMMException("PositivelySplitEwald: "+std::to_string(blobs.numBlobs)+" blobs need "+format((grid+pairs)/GiB)+" GiB (grid "+
+    throw PseRefusal(PseRefusal::MemoryBudget, "PositivelySplitEwald: "+std::to_string(blobs.numBlobs)+" blobs need "+format((grid+pairs)/GiB)+" GiB (grid "+
             std::to_string(p.grid[0])+" x "+std::to_string(p.grid[1])+" x "+std::to_string(p.grid[2])+" at epsilon "+format(p.tolerance)+": "+
             format(grid/GiB)+" GiB; "+format(numPairs)+" real-space pairs within "+format(p.realCutoff)+" nm at xi "+format(p.xi)+
             " /nm: "+format(pairs/GiB)+" GiB), more than the memory budget of "+format(budget/GiB)+" GiB. Raise the budget "
@@ -185,13 +185,13 @@ PseParameters PseParameterChoice::choose(double tolerance, double xi, const Vec3
     // the narrowest width: xi above reach/(halfWidth - 2 a_max).
     const double reach = std::sqrt(-std::log(RealSpaceMargin*tolerance));
     if (halfWidth <= 2*blobs.maxRadius)
-        throw OpenMMException("PositivelySplitEwald: the box (narrowest width "+format(2*halfWidth)+" nm) is too small for blobs of radius "+
-                format(blobs.maxRadius)+" nm: its width must exceed 4 radii plus the real-space cutoff. Use a bigger box, or the dense "
-                "PeriodicRotnePragerYamakawa for a box this small");
+        throw PseRefusal(PseRefusal::BoxTooSmall, "PositivelySplitEwald: the box (narrowest width "+format(2*halfWidth)+" nm) is too small for blobs of radius "+
+                format(blobs.maxRadius)+" nm: its width must exceed 4 radii plus the real-space cutoff (the dense "
+                "PeriodicRotnePragerYamakawa needs more than 4 radii too). Use a bigger box, or smaller blobs (radius under "+format(0.5*halfWidth)+" nm)");
     const double smallestXi = reach/(halfWidth-2*blobs.maxRadius);
     if (xi > 0) {
         if (xi <= smallestXi)
-            throw OpenMMException("PositivelySplitEwald: the real-space cutoff "+format(2*blobs.maxRadius+reach/xi)+" nm (at epsilon "+format(tolerance)+
+            throw PseRefusal(PseRefusal::BoxTooSmall, "PositivelySplitEwald: the real-space cutoff "+format(2*blobs.maxRadius+reach/xi)+" nm (at epsilon "+format(tolerance)+
                     " and xi "+format(xi)+" /nm) reaches half the box's narrowest width, "+format(halfWidth)+" nm: raise xi above "+
                     format(smallestXi)+" /nm, loosen epsilon, or use a bigger box");
         PseParameters p = parametersFor(tolerance, xi, box, blobs);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
 
 using namespace RigidLangevinPlugin;
 using OpenMM::OpenMMException;
@@ -174,6 +175,13 @@ double HydrodynamicInteractions::getSmallestBlobRadius() const {
         for (double r : type.radii)
             smallest = std::min(smallest, r);
     return smallest;
+}
+
+int HydrodynamicInteractions::getNumBlobRadii() const {
+    std::set<double> distinct;
+    for (const TypeBlobs& type : types)
+        distinct.insert(type.radii.begin(), type.radii.end());
+    return distinct.size();
 }
 
 void HydrodynamicInteractions::placeBlobs(const vector<BodyState>& states, vector<Vec3>& positions, vector<double>& radii) const {

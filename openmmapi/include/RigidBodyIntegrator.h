@@ -245,7 +245,8 @@ public:
         KrylovSolver = 2,
         /** As KrylovSolver, but in a periodic box the products are the positively split Ewald sum's
          *  (PSE: matrix-free, linear cost and memory, at epsilon = setHydrodynamicTolerance(), which
-         *  must then be at least 1e-10); in an unbounded solvent or above a wall, KrylovSolver. */
+         *  must then be at least 1e-10; the blobs may have at most 4 distinct radii, each costing two
+         *  sets of FFTs per product); in an unbounded solvent or above a wall, KrylovSolver. */
         SpectralSolver = 3
     };
     /**
@@ -253,7 +254,8 @@ public:
      * AutomaticSolver). Takes effect at the next step. In a periodic box AutomaticSolver takes
      * SpectralSolver's products where it is matrix-free and there are at least 500 blobs or the
      * tolerance is 1e-5 or looser (where they are the faster on the CPU:
-     * benchmarks/platforms/periodic_hydrodynamics.py); KrylovSolver's dense Ewald sum (72 B^2 bytes
+     * benchmarks/platforms/periodic_hydrodynamics.py), and the blobs have at most 4 distinct radii
+     * (SpectralSolver refuses more, naming them); KrylovSolver's dense Ewald sum (72 B^2 bytes
      * for B blobs) is refused beyond setHydrodynamicMemoryBudget(). On OpenCL and CUDA the
      * spectral products run on the device (OpenMM's FFTs), in the context's precision where that
      * reaches the tolerance (float, in single and mixed precision, from 1e-5) and otherwise on the

@@ -1,6 +1,7 @@
 #ifndef RIGID_LANGEVIN_PSE_PARAMETERS_H_
 #define RIGID_LANGEVIN_PSE_PARAMETERS_H_
 
+#include "openmm/OpenMMException.h"
 #include "openmm/Vec3.h"
 #include <string>
 
@@ -31,6 +32,27 @@ struct PseBlobSummary {
     double maxRadius, meanRadius;
 };
 
+/**
+ * What PositivelySplitEwald refuses about a configuration it could take with other settings, with
+ * the reason, so that a caller (the integrator's SpectralBlobMobility) names its own settings that
+ * would change it. Input that is not usable at all (non-finite, degenerate) is a plain OpenMMException.
+ */
+class PseRefusal : public OpenMM::OpenMMException {
+public:
+    enum Reason {
+        MemoryBudget,  ///< the grid and real-space pairs would exceed the memory budget
+        BoxTooSmall,   ///< no real-space cutoff fits half the box's narrowest width
+        TooManyRadii   ///< more distinct blob radii than PositivelySplitEwald::MaxRadii
+    };
+    PseRefusal(Reason reason, const std::string& message) : OpenMM::OpenMMException(message), reason(reason) {
+    }
+    Reason getReason() const {
+        return reason;
+    }
+private:
+    Reason reason;
+};
+
 namespace PseParameterChoice {
 
 /** value to four significant digits, for messages. */
@@ -40,9 +62,9 @@ std::string format(double value);
 void boxWidths(const OpenMM::Vec3 box[3], double widths[3]);
 
 /**
- * The parameters for tolerance, splitting xi (0: the one estimated cheapest) in the box. Throws an
- * OpenMMException naming the setting to change when the box is too small for the real-space cutoff
- * or the memory would exceed budget (bytes).
+ * The parameters for tolerance, splitting xi (0: the one estimated cheapest) in the box. Throws a
+ * PseRefusal naming the setting to change when the box is too small for the real-space cutoff
+ * (BoxTooSmall) or the memory would exceed budget (bytes; MemoryBudget).
  */
 PseParameters choose(double tolerance, double xi, const OpenMM::Vec3 box[3], const PseBlobSummary& blobs, double budget);
 
@@ -62,7 +84,7 @@ bool singlePrecisionPairs(double tolerance);
 /** The bytes one real-space pair (one direction) takes at this tolerance. */
 double bytesPerPair(double tolerance);
 
-/** Throws the over-budget OpenMMException if the grid and numPairs real-space pairs exceed budget. */
+/** Throws the over-budget PseRefusal (MemoryBudget) if the grid and numPairs real-space pairs exceed budget. */
 void checkBudget(const PseParameters& parameters, const PseBlobSummary& blobs, double numPairs, double budget);
 
 } // namespace PseParameterChoice

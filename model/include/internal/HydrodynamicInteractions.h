@@ -54,6 +54,8 @@ public:
     int getNumBlobs() const;
     /** The smallest blob radius of any body type (nm): the length over which the blobs' mobility changes. */
     double getSmallestBlobRadius() const;
+    /** How many distinct blob radii the body types have (the positively split Ewald sum takes a few). */
+    int getNumBlobRadii() const;
     /** The coupled resistance per unit viscosity of the bodies at these states (see the class
      *  description), in the periodic box of boxVectors (three) if given. */
     Eigen::MatrixXd computeResistance(const std::vector<BodyState>& states, const OpenMM::Vec3* boxVectors = NULL) const;

@@ -106,7 +106,10 @@ void RigidLangevinStepKernelBase::initializeInteractions() {
     brownianStep.reset();
 }
 
-CoupledSolve RigidLangevinStepKernelBase::chooseCoupledSolve(const RigidBodyIntegrator& integrator, int numBlobs, bool periodic) const {
+CoupledSolve RigidLangevinStepKernelBase::chooseCoupledSolve(const RigidBodyIntegrator& integrator, const HydrodynamicInteractions& blobs, bool periodic) const {
+    const int numBlobs = blobs.getNumBlobs();
+    // The PSE takes a few distinct radii (two FFTs per product each); AutomaticSolver does not choose it beyond them.
+    const bool spectralTakesRadii = (blobs.getNumBlobRadii() <= PositivelySplitEwald::MaxRadii);
     CoupledSolve solve = {false, integrator.getHydrodynamicTolerance(), KrylovMaxIterations, false};
     const int platformMinBlobs = getDefaultKrylovMinBlobs();
     const char* setting = std::getenv("RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER");
@@ -124,7 +127,7 @@ CoupledSolve RigidLangevinStepKernelBase::chooseCoupledSolve(const RigidBodyInte
     else {
         int minBlobs = (integrator.getKrylovMinBlobs() >= 0 ? integrator.getKrylovMinBlobs() : platformMinBlobs);
         solve.krylov = (minBlobs >= 0 && numBlobs >= minBlobs);
-        solve.spectral = (solve.krylov && periodic && (numBlobs >= SpectralMinBlobs || solve.tolerance >= SpectralLooseTolerance));
+        solve.spectral = (solve.krylov && periodic && spectralTakesRadii && (numBlobs >= SpectralMinBlobs || solve.tolerance >= SpectralLooseTolerance));
     }
     // The dense Ewald sum of the matrix-free step: 8 (3B)^2 bytes, formed every step.
     const double denseBytes = 72.0*numBlobs*numBlobs;
@@ -132,8 +135,11 @@ CoupledSolve RigidLangevinStepKernelBase::chooseCoupledSolve(const RigidBodyInte
     if (solve.krylov && periodic && !solve.spectral && denseBytes > budget)
         throw OpenMMException(integratorName(integrator)+": the matrix-free solver in a periodic box with the dense Ewald sum (KrylovSolver) forms "
                 "the blobs' mobility every step, "+std::to_string((long long) (denseBytes/(1<<20)))+" MiB for "+std::to_string(numBlobs)+
-                " blobs, more than the budget of "+std::to_string((long long) (budget/(1<<20)))+" MiB (setHydrodynamicMemoryBudget()): call "
-                "setHydrodynamicSolver(SpectralSolver) (the positively split Ewald sum, linear memory) or AutomaticSolver, or raise the budget");
+                " blobs, more than the budget of "+std::to_string((long long) (budget/(1<<20)))+" MiB (setHydrodynamicMemoryBudget()): "+
+                (spectralTakesRadii ? "call setHydrodynamicSolver(SpectralSolver) (the positively split Ewald sum, linear memory) or AutomaticSolver, or raise the budget" :
+                 "raise the budget, or give the blobs at most "+std::to_string(PositivelySplitEwald::MaxRadii)+" distinct radii (they have "+
+                 std::to_string(blobs.getNumBlobRadii())+"; setParticleRadius(), setBodyBlobs()) so that the spectral solver (the positively split "
+                 "Ewald sum, linear memory) can take them"));
     return solve;
 }
 
@@ -171,7 +177,7 @@ void RigidLangevinStepKernelBase::takeCoupledStep(ContextImpl& context, const Ri
     if (periodic)
         context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     CoupledStepParameters step = {integrator.getStepSize(), integrator.getViscosity(), BOLTZ*integrator.getTemperature(), periodic ? box : NULL};
-    const CoupledSolve solve = chooseCoupledSolve(integrator, interactions->getNumBlobs(), periodic);
+    const CoupledSolve solve = chooseCoupledSolve(integrator, *interactions, periodic);
     coupledStep->take(states, forces, step, solve, normal, stepMobility(integrator, solve, mobility), parallel);
     lastKrylovIterations = coupledStep->getLastIterations();
 }
@@ -308,7 +314,7 @@ void RigidLangevinStepKernelBase::takeBrownianStep(ContextImpl& context, const R
     if (periodic)
         context.getPeriodicBoxVectors(box[0], box[1], box[2]);
     CoupledStepParameters step = {integrator.getStepSize(), integrator.getViscosity(), BOLTZ*integrator.getTemperature(), periodic ? box : NULL};
-    CoupledSolve solve = (interactions ? chooseCoupledSolve(integrator, interactions->getNumBlobs(), periodic) :
+    CoupledSolve solve = (interactions ? chooseCoupledSolve(integrator, *interactions, periodic) :
                           CoupledSolve{false, integrator.getHydrodynamicTolerance(), KrylovMaxIterations, false});
     brownianStep->take(states, forces, step, solve, coefficients, hostNormals(), stepMobility(integrator, solve, blobMobility()));
     lastKrylovIterations = brownianStep->getLastIterations();

@@ -1,10 +1,31 @@
 #include "internal/SpectralBlobMobility.h"
+#include "internal/PseParameters.h"
 #include "openmm/OpenMMException.h"
 #include <algorithm>
 #include <sstream>
 
 using namespace RigidLangevinPlugin;
 using OpenMM::OpenMMException;
+
+namespace {
+
+/** What a user of the integrator changes for each of the PSE's refusals. */
+std::string remedy(PseRefusal::Reason reason) {
+    switch (reason) {
+    case PseRefusal::MemoryBudget:
+        // The dense Ewald sum would need far more (72 B^2 bytes), so no other solver is offered.
+        return "raise setHydrodynamicMemoryBudget() (the budget), loosen setHydrodynamicTolerance() (epsilon: a coarser grid and fewer "
+               "real-space pairs), or use fewer blobs";
+    case PseRefusal::TooManyRadii:
+        return "give the blobs at most "+std::to_string(PositivelySplitEwald::MaxRadii)+" distinct radii (setParticleRadius(), setBodyBlobs()), "
+               "or setHydrodynamicSolver(KrylovSolver) for the dense Ewald sum (any radii, O(B^2) memory and time)";
+    case PseRefusal::BoxTooSmall:
+    default:
+        return "use a bigger box (every solver needs its narrowest width above 4 blob radii)";
+    }
+}
+
+} // namespace
 
 SpectralBlobMobility::SpectralBlobMobility(const std::string& integratorName, const KrylovSolvers::ParallelFor& parallel) :
         integratorName(integratorName), parallel(parallel), memoryBudget(PositivelySplitEwald::DefaultMemoryBudget) {
@@ -37,13 +58,15 @@ void SpectralBlobMobility::setBlobs(const std::vector<OpenMM::Vec3>& positions, 
     try {
         product->setBlobs(positions, radii, boxVectors);
     }
-    catch (const OpenMMException& e) {
+    catch (const PseRefusal& e) {
         throw OpenMMException(integratorName+": the spectral solver (setHydrodynamicSolver()) cannot take these blobs. "+e.what()+
-                ". From the integrator: raise setHydrodynamicMemoryBudget() (the budget), loosen setHydrodynamicTolerance() (epsilon: a coarser grid "
-                "and fewer real-space pairs), use fewer blobs or a bigger box, or another solver (DenseSolver or KrylovSolver: the dense Ewald "
-                "sum, O(B^2) memory)");
+                ". From the integrator: "+remedy(e.getReason()));
+    }
+    catch (const OpenMMException& e) {
+        throw OpenMMException(integratorName+": the spectral solver (setHydrodynamicSolver()) cannot take these blobs. "+e.what());
     }
 }
+
 
 void SpectralBlobMobility::multiply(const Eigen::VectorXd& f, Eigen::VectorXd& out) {
     product->multiply(f, out);

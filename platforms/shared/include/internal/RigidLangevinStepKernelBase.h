@@ -107,16 +107,17 @@ protected:
      */
     void advanceCoupledBodies(OpenMM::ContextImpl& context, const RigidBodyIntegrator& integrator);
     /**
-     * How this platform solves the coupled step of numBlobs blobs (in a periodic box if periodic):
+     * How this platform solves the coupled step of these blobs (in a periodic box if periodic):
      * as the integrator's hydrodynamic solver settings say (AutomaticSolver: matrix-free from
      * getKrylovMinBlobs() blobs, and in a periodic box spectral as SpectralMinBlobs and
-     * SpectralLooseTolerance say), or, on every
+     * SpectralLooseTolerance say, where the blobs have at most PositivelySplitEwald::MaxRadii
+     * distinct radii), or, on every
      * platform but Reference, as the environment variable RIGIDLANGEVIN_HYDRODYNAMIC_SOLVER (dense,
      * krylov or spectral; for the tests, which run each path on small systems) overrides them.
      * Throws on any other value of the variable, and where the matrix-free step's dense Ewald sum
      * (KrylovSolver in a periodic box) would exceed the integrator's setHydrodynamicMemoryBudget().
      */
-    CoupledSolve chooseCoupledSolve(const RigidBodyIntegrator& integrator, int numBlobs, bool periodic) const;
+    CoupledSolve chooseCoupledSolve(const RigidBodyIntegrator& integrator, const HydrodynamicInteractions& blobs, bool periodic) const;
     /** The blobs' mobility products for a matrix-free step solved as solve says: the platform's
      *  (platformMobility) or the spectral solver's, told the solves' tolerance (BlobMobility::setTolerance()). */
     BlobMobility& stepMobility(const RigidBodyIntegrator& integrator, const CoupledSolve& solve, BlobMobility& platformMobility);

@@ -19,9 +19,10 @@ namespace RigidLangevinPlugin {
  * residual at which the Krylov solves stop, and the solves converge on the PSE operator (linear,
  * symmetric, positive definite) as on the dense one. A tolerance below
  * PositivelySplitEwald::MinTolerance, which the PSE cannot reach, is refused naming the setting.
- * What PositivelySplitEwald::setBlobs refuses (the memory budget, the integrator's
- * setHydrodynamicMemoryBudget(), checked before anything large is allocated; a box too narrow for
- * the blobs) is rethrown naming the integrator's settings.
+ * What PositivelySplitEwald::setBlobs refuses (PseRefusal: the memory budget, the integrator's
+ * setHydrodynamicMemoryBudget(), checked before anything large is allocated; more distinct radii
+ * than it takes; a box too narrow for the blobs) is rethrown naming the integrator's settings that
+ * would change it, and only those.
  */
 class OPENMM_EXPORT_RIGIDLANGEVIN SpectralBlobMobility : public BlobMobility {
 public:
