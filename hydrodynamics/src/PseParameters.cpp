@@ -187,7 +187,7 @@ PseParameters PseParameterChoice::choose(double tolerance, double xi, const Vec3
     if (halfWidth <= 2*blobs.maxRadius)
         throw PseRefusal(PseRefusal::BoxTooSmall, "PositivelySplitEwald: the box (narrowest width "+format(2*halfWidth)+" nm) is too small for blobs of radius "+
                 format(blobs.maxRadius)+" nm: its width must exceed 4 radii plus the real-space cutoff (the dense "
-                "PeriodicRotnePragerYamakawa needs more than 4 radii too). Use a bigger box, or smaller blobs (radius under "+format(0.5*halfWidth)+" nm)");
+                "PeriodicRotnePragerYamakawa needs a width above 4 radii too). Use a bigger box, or smaller blobs (radius under "+format(0.5*halfWidth)+" nm)");
     const double smallestXi = reach/(halfWidth-2*blobs.maxRadius);
     if (xi > 0) {
         if (xi <= smallestXi)
