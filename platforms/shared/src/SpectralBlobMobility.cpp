@@ -58,12 +58,11 @@ void SpectralBlobMobility::setBlobs(const std::vector<OpenMM::Vec3>& positions, 
     try {
         product->setBlobs(positions, radii, boxVectors);
     }
-    catch (const PseRefusal& e) {
-        throw OpenMMException(integratorName+": the spectral solver (setHydrodynamicSolver()) cannot take these blobs. "+e.what()+
-                ". From the integrator: "+remedy(e.getReason()));
-    }
     catch (const OpenMMException& e) {
-        throw OpenMMException(integratorName+": the spectral solver (setHydrodynamicSolver()) cannot take these blobs. "+e.what());
+        // A refusal that other settings would lift names the integrator's; unusable input needs no more than its own message.
+        const PseRefusal* refusal = dynamic_cast<const PseRefusal*>(&e);
+        throw OpenMMException(integratorName+": the spectral solver (setHydrodynamicSolver()) cannot take these blobs. "+e.what()+
+                (refusal ? ". From the integrator: "+remedy(refusal->getReason()) : ""));
     }
 }
 
